@@ -1,0 +1,260 @@
+COMMENT
+Module 1 of Kim, Sandercock & Heckman 2015 (seed 001): spikes -> Ca2+ in the SR and sarcoplasm.
+
+Equations (spec/kim2015_model.md): eqs 1-7, cooperativity K6 = K6i/(1 + 5 Atil), length compensation eq 18
+(K5 = phi(Xm) K5i when lencomp = 1).
+Units: time ms, concentration M, rates K1,K3,K5i (/M/ms), K2,K4,K6i,Rmax (/ms), K (/M), Umax (M/ms), tau1,tau2 ms.
+
+Release (eq 3) uses two recursive kernels, S2 = sum exp(-(t-ti)/tau2) and S12 = sum exp(-(t-ti)(1/tau1+1/tau2)),
+both jumping by 1 at each spike (NET_RECEIVE), so R = [CaSR] Rmax (S2 - S12) costs the same whatever the spike count.
+
+Coupling (documented interface, see neuromuscle/mechanisms.py):
+  POINTER atil  -> activation state Atil of the activation mechanism (KimAct), dimensionless
+  POINTER xm    -> muscle length Xm (mm) held by a MuscleLength point process
+Exposes RANGE CaSPT (M) and T0 (M) for the activation mechanism.
+
+Numerics.  Fixed step: one linearly implicit (Rosenbrock-Euler) step of the five coupled Ca states with the
+exact analytic Jacobian, solved by eliminating CaSRCS, CaSPB and CaSPT into a 2x2 system; the kernels decay
+exactly and R uses their exact average over the step.  L-stable, no Newton iteration, no history loop.
+Variable step (CVODE): the DERIVATIVE block gives the exact right-hand side, written a - b*y so that CVODE's
+diagonal Jacobian approximation sees the stiff terms.  The state equations are written as y' = a - b*y: in
+fixed step a holds the step's increment / dt and b = 0, so METHOD euler applies exactly that increment.
+ENDCOMMENT
+
+NEURON {
+    POINT_PROCESS KimCa
+    RANGE K1, K2, K3, K4, K5i, K6i, K, Rmax, Umax, tau1, tau2, CS0, B0, T0, CaSR0
+    RANGE phi1, phi2, phi3, phi4, xopt, lencomp
+    RANGE R, U, K5, K6, phi, nspike
+    POINTER atil, xm
+    THREADSAFE
+}
+
+UNITS {
+    (mM) = (milli/liter)
+}
+
+PARAMETER {
+    K1 = 3000 (/M/ms)
+    K2 = 3 (/ms)
+    K3 = 400 (/M/ms)
+    K4 = 1 (/ms)
+    K5i = 4e5 (/M/ms)
+    K6i = 150 (/ms)
+    K = 850 (/M)
+    Rmax = 10 (/ms)
+    Umax = 2000 (M/ms)
+    tau1 = 3 (ms)
+    tau2 = 25 (ms)
+    CS0 = 0.03 (M)
+    B0 = 0.00043 (M)
+    T0 = 0.00007 (M)
+    CaSR0 = 0.0025 (M)
+    phi1 = 0.03 (/mm)
+    phi2 = 1.23 (1)
+    phi3 = 0.01 (/mm)
+    phi4 = 1.08 (1)
+    xopt = -8 (mm)
+    lencomp = 1 (1)
+}
+
+ASSIGNED {
+    atil (1)
+    xm (mm)
+    R (M/ms)
+    U (M/ms)
+    K5 (/M/ms)
+    K6 (/ms)
+    phi (1)
+    nspike (1)
+    a1 a2 a3 a4 a5 a6 a7
+    b1 b2 b3 b4 b5 b6 b7
+}
+
+STATE {
+    CaSR (M)
+    CaSRCS (M)
+    CaSP (M)
+    CaSPB (M)
+    CaSPT (M)
+    S2 (1)
+    S12 (1)
+}
+
+INITIAL {
+    CaSR = CaSR0
+    CaSRCS = 0
+    CaSP = 0
+    CaSPB = 0
+    CaSPT = 0
+    S2 = 0
+    S12 = 0
+    nspike = 0
+    rates_coeffs()
+}
+
+BREAKPOINT {
+    SOLVE states METHOD euler
+}
+
+DERIVATIVE states {
+    if (cvode_on()) {
+        exact_rhs()
+    } else {
+        implicit_step(dt)
+    }
+    CaSR' = a1 - b1*CaSR
+    CaSRCS' = a2 - b2*CaSRCS
+    CaSP' = a3 - b3*CaSP
+    CaSPB' = a4 - b4*CaSPB
+    CaSPT' = a5 - b5*CaSPT
+    S2' = a6 - b6*S2
+    S12' = a7 - b7*S12
+}
+
+PROCEDURE rates_coeffs() {
+    : K5, K6 and the length factor phi from the current Atil and Xm (eq 18 and the cooperativity)
+    if (xm <= xopt) {
+        phi = phi1*xm + phi2
+    } else {
+        phi = phi3*xm + phi4
+    }
+    if (lencomp) {
+        K5 = K5i*phi
+    } else {
+        K5 = K5i
+    }
+    K6 = K6i/(1 + 5*atil)
+}
+
+FUNCTION pump(c (M)) (M/ms) {
+    : eq 4; zero for negative concentration
+    LOCAL z, w
+    if (c <= 0) {
+        pump = 0
+    } else {
+        z = c*c*K*K
+        w = z/(1 + c*K + z)
+        pump = Umax*w*w
+    }
+}
+
+FUNCTION dpump(c (M)) (/ms) {
+    : d(eq 4)/d[CaSP]
+    LOCAL z, D, w
+    if (c <= 0) {
+        dpump = 0
+    } else {
+        z = c*c*K*K
+        D = 1 + c*K + z
+        w = z/D
+        dpump = 2*Umax*w*(2*K*K*c + K*K*K*c*c)/(D*D)
+    }
+}
+
+PROCEDURE exact_rhs() {
+    LOCAL r, tau12
+    rates_coeffs()
+    tau12 = 1/(1/tau1 + 1/tau2)
+    r = Rmax*(S2 - S12)
+    R = CaSR*r
+    U = pump(CaSP)
+    : eq 1, linear in CaSR
+    b1 = K1*(CS0 - CaSRCS) + r
+    a1 = K2*CaSRCS + U
+    : eq 2, linear in CaSRCS
+    b2 = K1*CaSR + K2
+    a2 = K1*CaSR*CS0
+    : eq 5: every term but the pump is linear in CaSP; the pump goes into a
+    b3 = K5*(T0 - CaSPT) + K3*(B0 - CaSPB)
+    a3 = K6*CaSPT + K4*CaSPB + R - U
+    : eq 6
+    b4 = K3*CaSP + K4
+    a4 = K3*CaSP*B0
+    : eq 7
+    b5 = K5*CaSP + K6
+    a5 = K5*CaSP*T0
+    : release kernels
+    a6 = 0
+    b6 = 1/tau2
+    a7 = 0
+    b7 = 1/tau12
+}
+
+PROCEDURE implicit_step(h (ms)) {
+    LOCAL tau12, e2, e12, r, y1, y3, f1, f2, f3, f4, f5, J11, J12, J13, J21, J22, J31, J33, J34, J35, J43, J44, J53, J55, d2, d4, d5, m11, m13, m31, m33, c1, c3, det, D1, D2, D3, D4, D5, Up
+    rates_coeffs()
+    tau12 = 1/(1/tau1 + 1/tau2)
+    e2 = exp(-h/tau2)
+    e12 = exp(-h/tau12)
+    : exact mean of Rmax (S2 - S12) over the step
+    r = Rmax*(S2*tau2*(1 - e2) - S12*tau12*(1 - e12))/h
+    y1 = CaSR
+    y3 = CaSP
+    R = y1*r
+    U = pump(y3)
+    Up = dpump(y3)
+    f1 = -K1*y1*(CS0 - CaSRCS) + K2*CaSRCS - R + U
+    f2 = K1*y1*(CS0 - CaSRCS) - K2*CaSRCS
+    f3 = -K5*y3*(T0 - CaSPT) + K6*CaSPT - K3*y3*(B0 - CaSPB) + K4*CaSPB + R - U
+    f4 = K3*y3*(B0 - CaSPB) - K4*CaSPB
+    f5 = K5*y3*(T0 - CaSPT) - K6*CaSPT
+    J11 = -K1*(CS0 - CaSRCS) - r
+    J12 = K1*y1 + K2
+    J13 = Up
+    J21 = K1*(CS0 - CaSRCS)
+    J22 = -K1*y1 - K2
+    J31 = r
+    J33 = -K5*(T0 - CaSPT) - K3*(B0 - CaSPB) - Up
+    J34 = K3*y3 + K4
+    J35 = K5*y3 + K6
+    J43 = K3*(B0 - CaSPB)
+    J44 = -K3*y3 - K4
+    J53 = K5*(T0 - CaSPT)
+    J55 = -K5*y3 - K6
+    : (I - hJ) D = h f; rows 2, 4, 5 give D2, D4, D5 in terms of D1, D3
+    d2 = 1 - h*J22
+    d4 = 1 - h*J44
+    d5 = 1 - h*J55
+    m11 = 1 - h*J11 - h*J12*h*J21/d2
+    m13 = -h*J13
+    c1 = h*f1 + h*J12*h*f2/d2
+    m31 = -h*J31
+    m33 = 1 - h*J33 - h*J34*h*J43/d4 - h*J35*h*J53/d5
+    c3 = h*f3 + h*J34*h*f4/d4 + h*J35*h*f5/d5
+    det = m11*m33 - m13*m31
+    D1 = (c1*m33 - m13*c3)/det
+    D3 = (m11*c3 - m31*c1)/det
+    D2 = (h*f2 + h*J21*D1)/d2
+    D4 = (h*f4 + h*J43*D3)/d4
+    D5 = (h*f5 + h*J53*D3)/d5
+    a1 = D1/h
+    a2 = D2/h
+    a3 = D3/h
+    a4 = D4/h
+    a5 = D5/h
+    a6 = S2*(e2 - 1)/h
+    a7 = S12*(e12 - 1)/h
+    b1 = 0
+    b2 = 0
+    b3 = 0
+    b4 = 0
+    b5 = 0
+    b6 = 0
+    b7 = 0
+}
+
+FUNCTION cvode_on() {
+    : 1 while NEURON integrates with CVODE (the DERIVATIVE block then supplies the exact right-hand side)
+VERBATIM
+    extern int cvode_active_;
+    _lcvode_on = (double) cvode_active_;
+ENDVERBATIM
+}
+
+NET_RECEIVE(w) {
+    : a spike: both release kernels jump by one (eq 3 written recursively); the weight is ignored
+    S2 = S2 + 1
+    S12 = S12 + 1
+    nspike = nspike + 1
+}

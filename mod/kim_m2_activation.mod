@@ -1,0 +1,111 @@
+COMMENT
+Module 2 of Kim, Sandercock & Heckman 2015 (seed 001): troponin-bound Ca2+ -> activation.
+
+Equations (spec/kim2015_model.md): eq 8 (Morris-Lecar form), x = [CaSPT]/T0,
+    Atil' = (Atil_inf - Atil)/tau_A,  Atil_inf = 0.5 (1 + tanh((x - C1)/C2)),  tau_A = C3/cosh((x - C4)/(2 C5))
+    A = Atil^alpha
+and, when movcomp = 1, the movement compensations eqs 19-20 on an explicit movement clock: for t >= onset (ms)
+    alpha(t) = alpha + alpha1 (1 + tanh((t - onset - alpha2)/alpha3))
+    A = Atil^alpha(t) / ((1 + beta phi(Xm)) (1 + gamma Vm))   if Xm <= xopt and Vm >= 0, else Atil^alpha(t)
+    A >= 1e-3 while eq 19 is active.
+Units: C3, alpha2, alpha3 ms; gamma s/mm; Vm mm/s; Xm mm; phi1, phi3 /mm.
+
+Coupling (documented interface, see neuromuscle/mechanisms.py):
+  POINTER caspt -> [CaSPT] (M) of the calcium mechanism (KimCa); T0 (M) is this mechanism's copy of the total
+                   troponin concentration.
+  POINTER xm, vm -> muscle length (mm) and velocity (mm/s) of a MuscleLength point process
+  RANGE A        <- read by the force mechanism (KimForce POINTER act).  Any excitation model that exposes an
+                   activation A in [0, 1] can take this place in front of Module 3.
+Numerics: linear in Atil, so METHOD cnexp is exact for frozen x in fixed step; CVODE uses the same block.
+ENDCOMMENT
+
+NEURON {
+    POINT_PROCESS KimAct
+    RANGE C1, C2, C3, C4, C5, T0, alpha, alpha1, alpha2, alpha3, beta, gamma
+    RANGE phi1, phi2, phi3, phi4, xopt, movcomp, onset, Afloor
+    RANGE A, alpha_t, Ainf, tauA, atil0
+    POINTER caspt, xm, vm
+    THREADSAFE
+}
+
+PARAMETER {
+    C1 = 0.128 (1)
+    C2 = 0.093 (1)
+    C3 = 61.206 (ms)
+    C4 = -13.116 (1)
+    C5 = 5.095 (1)
+    T0 = 0.00007 (M)
+    alpha = 2 (1)
+    alpha1 = 4.77 (1)
+    alpha2 = 400 (ms)
+    alpha3 = 160 (ms)
+    beta = 0.47 (1)
+    gamma = 0.001 (s/mm)
+    phi1 = 0.03 (/mm)
+    phi2 = 1.23 (1)
+    phi3 = 0.01 (/mm)
+    phi4 = 1.08 (1)
+    xopt = -8 (mm)
+    movcomp = 0 (1)
+    onset = 1e9 (ms)
+    Afloor = 0.001 (1)
+    atil0 = 0 (1)
+}
+
+ASSIGNED {
+    caspt (M)
+    xm (mm)
+    vm (mm/s)
+    A (1)
+    alpha_t (1)
+    Ainf (1)
+    tauA (ms)
+}
+
+STATE {
+    atil (1)
+}
+
+INITIAL {
+    atil = atil0
+    activation()
+}
+
+BREAKPOINT {
+    SOLVE states METHOD cnexp
+}
+
+DERIVATIVE states {
+    rates()
+    atil' = (Ainf - atil)/tauA
+    activation()
+}
+
+PROCEDURE rates() {
+    LOCAL x
+    x = caspt/T0
+    Ainf = 0.5*(1 + tanh((x - C1)/C2))
+    tauA = C3/cosh((x - C4)/(2*C5))
+}
+
+PROCEDURE activation() {
+    LOCAL ph, at
+    at = atil
+    if (at < 0) {
+        at = 0
+    }
+    if (movcomp && t >= onset) {
+        alpha_t = alpha + alpha1*(1 + tanh((t - onset - alpha2)/alpha3))
+        A = pow(at, alpha_t)
+        if (xm <= xopt && vm >= 0) {
+            ph = phi1*xm + phi2
+            A = A/((1 + beta*ph)*(1 + gamma*vm))
+        }
+        if (A < Afloor) {
+            A = Afloor
+        }
+    } else {
+        alpha_t = alpha
+        A = pow(at, alpha)
+    }
+}

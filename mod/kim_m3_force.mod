@@ -1,0 +1,154 @@
+COMMENT
+Module 3 of Kim, Sandercock & Heckman 2015 (seed 001): activation -> force, a Hill/Mashima contractile
+element (CE) in series with a linear series elastic element (SE).
+
+Equations (spec/kim2015_model.md), eqs 9-12:
+    F  = P0 KSE (dXm - dXCE), F = 0 where dXm - dXCE <= 0                      (eq 9)
+    Fc = P0 g(Xm) A,  g(Xm) = exp(-((Xm - g1)/g2)^2)                          (eq 12)
+    F <= Fc (shortening, Hill):     dXCE/dt = -b0 (Fc - F)/(F + a0 Fc/P0)      (eq 10)
+    F >  Fc (lengthening, Mashima): dXCE/dt = -d0 (Fc - F)/(2 Fc - F + c0 Fc/P0) (eq 11)
+Here XCE starts at the initial muscle length, so dXm - dXCE = Xm - XCE and the reference lengths cancel
+(the spec's "start both references at the trial's length").
+Units: lengths mm, forces N, velocities mm/s (the CE state moves in mm/ms = velocity/1000), KSE /mm.
+
+The Mashima asymptote.  Eq 11's denominator vanishes at F = Fa = (2 + c0/P0) Fc and changes sign beyond it
+(the published code then lets XCE run at 1e5 mm/s).  Here eq 11 is used up to Fl = Fc + asym (Fa - Fc)
+(asym = 0.95) and continued beyond it by its tangent line, capped at vmax (mm/s): the CE yields fast and
+monotonically, with no division blow-up.  Each fixed step spent beyond Fl is counted in nasym so the caller can
+report it.  With no activation (Fc = 0) a taut SE makes the CE yield at vmax and a slack one does nothing.
+
+Coupling: POINTER act -> activation A (1) of an excitation mechanism (KimAct, or any model exposing A);
+          POINTER xm   -> muscle length (mm) of a MuscleLength point process.
+Numerics: fixed step: one linearly implicit (Rosenbrock-Euler) step with the exact dv/dF (L-stable for the
+stiff SE-CE loop at low activation); CVODE: exact right-hand side written a - b XCE (see KimCa).
+ENDCOMMENT
+
+NEURON {
+    POINT_PROCESS KimForce
+    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, F0
+    RANGE F, Fc, vce, nasym
+    POINTER act, xm
+    THREADSAFE
+}
+
+PARAMETER {
+    P0 = 23 (N)
+    KSE = 0.4 (/mm)
+    g1 = -8 (mm)
+    g2 = 21.4 (mm)
+    a0 = 2.35 (N)
+    b0 = 24.35 (mm/s)
+    c0 = -7.4 (N)
+    d0 = 30.3 (mm/s)
+    vmax = 1e5 (mm/s)
+    asym = 0.95 (1)
+    F0 = 0 (N)
+}
+
+ASSIGNED {
+    act (1)
+    xm (mm)
+    F (N)
+    Fc (N)
+    vce (mm/s)
+    dvdF (mm/s/N)
+    nasym (1)
+    aa (mm/ms)
+    bb (/ms)
+}
+
+STATE {
+    xce (mm)
+}
+
+INITIAL {
+    xce = xm - F0/(P0*KSE)
+    nasym = 0
+    se_force()
+}
+
+BREAKPOINT {
+    SOLVE states METHOD euler
+}
+
+DERIVATIVE states {
+    LOCAL k, dfdx
+    se_force()
+    velocity()
+    k = P0*KSE
+    : taut SE (or just taut and being taken up): F depends on xce; slack: it does not
+    if (xm - xce > 0 || (xm - xce == 0 && vce < 0)) {
+        dfdx = -k*dvdF/1000
+    } else {
+        dfdx = 0
+    }
+    if (cvode_on()) {
+        bb = -dfdx
+        aa = vce/1000 + bb*xce
+    } else {
+        : one linearly implicit step: D = h f/(1 - h df/dxce)
+        aa = (vce/1000)/(1 - dt*dfdx)
+        if (xm - xce < 0 && xce + dt*aa < xm) {
+            : slack taken up within the step: stop where the SE becomes taut (no overshoot into the
+            : stiff region by an explicit step)
+            aa = (xm - xce)/dt
+        }
+        bb = 0
+        if (vce > 0 && F > 1e-3*P0 && F > Fc + asym*(Fc*(2 + c0/P0) - Fc)) {
+            nasym = nasym + 1
+        }
+    }
+    xce' = aa - bb*xce
+    se_force()
+}
+
+PROCEDURE se_force() {
+    F = P0*KSE*(xm - xce)
+    if (F < 0) {
+        F = 0
+    }
+    Fc = P0*exp(-((xm - g1)/g2)^2)*act
+    if (Fc < 0) {
+        Fc = 0
+    }
+}
+
+PROCEDURE velocity() {
+    : CE velocity vce (mm/s) of eqs 10-11 and dvdF = d vce / dF, continued past the Mashima asymptote
+    LOCAL Fa, Fl, vl, sl
+    if (Fc <= 0) {
+        dvdF = 0
+        if (F > 0) {
+            vce = vmax
+        } else {
+            vce = 0
+        }
+    } else if (F <= Fc) {
+        vce = -b0*(Fc - F)/(F + a0*Fc/P0)
+        dvdF = b0*Fc*(1 + a0/P0)/((F + a0*Fc/P0)*(F + a0*Fc/P0))
+    } else {
+        Fa = (2 + c0/P0)*Fc
+        Fl = Fc + asym*(Fa - Fc)
+        if (F <= Fl) {
+            vce = d0*(F - Fc)/(Fa - F)
+            dvdF = d0*(Fa - Fc)/((Fa - F)*(Fa - F))
+        } else {
+            vl = d0*(Fl - Fc)/(Fa - Fl)
+            sl = d0*(Fa - Fc)/((Fa - Fl)*(Fa - Fl))
+            vce = vl + sl*(F - Fl)
+            dvdF = sl
+            if (vce > vmax) {
+                vce = vmax
+                dvdF = 0
+            }
+        }
+    }
+}
+
+FUNCTION cvode_on() {
+    : 1 while NEURON integrates with CVODE
+VERBATIM
+    extern int cvode_active_;
+    _lcvode_on = (double) cvode_active_;
+ENDVERBATIM
+}

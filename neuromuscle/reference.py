@@ -1,0 +1,123 @@
+"""An independent SciPy integration of the same model (eqs 1-12, 18-20), to keep the NMODL honest.
+
+Written from the spec, not from the mod files: the release sums over the spike history directly (eq 3 as
+printed, no recursive kernels), the right-hand side is one function of all states, and scipy's Radau
+integrates it at tight tolerances.  Slow by design; use it for tests and verification only.
+Units as in the mechanisms: ms, M, mm, N, mm/s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .length import LengthTrace
+from .parameters import ParameterSet
+
+_ATOL = np.array([1e-12, 1e-11, 1e-14, 1e-13, 1e-14, 1e-9, 1e-13])
+
+
+@dataclass
+class ReferenceResult:
+    """t (ms), force (N), A, Atil and the five Ca states (M) on the requested grid."""
+
+    t_ms: np.ndarray
+    force_N: np.ndarray
+    A: np.ndarray
+    atil: np.ndarray
+    ca_M: dict[str, np.ndarray]
+
+
+def _phi(x: float, p: ParameterSet) -> float:
+    return p["phi1"] * x + p["phi2"] if x <= p["g1"] else p["phi3"] * x + p["phi4"]
+
+
+def ce_velocity(F: float, Fc: float, p: ParameterSet, asym: float = 0.95, vmax: float = 1e5) -> float:
+    """CE velocity (mm/s) of eqs 10-11 at SE force F (N) and CE capacity Fc (N), with the Mashima asymptote
+    continued by its tangent beyond Fc + asym (Fa - Fc) and capped at vmax (as documented in KimForce)."""
+    if Fc <= 0.0:
+        return vmax if F > 0.0 else 0.0
+    if F <= Fc:
+        return -p["b0"] * (Fc - F) / (F + p["a0"] * Fc / p["P0"])
+    Fa = (2.0 + p["c0"] / p["P0"]) * Fc
+    Fl = Fc + asym * (Fa - Fc)
+    if F <= Fl:
+        return -p["d0"] * (Fc - F) / (2.0 * Fc - F + p["c0"] * Fc / p["P0"])
+    vl = p["d0"] * (Fl - Fc) / (Fa - Fl)
+    sl = p["d0"] * (Fa - Fc) / (Fa - Fl) ** 2
+    return min(vl + sl * (F - Fl), vmax)
+
+
+def activation(atil: float, t: float, x: float, v: float, p: ParameterSet, movcomp: bool,
+               onset: float | None) -> float:
+    """A from Atil (eq 8), with eqs 19-20 when movcomp and t >= onset (ms); x mm, v mm/s."""
+    at = max(atil, 0.0)
+    if not movcomp or onset is None or t < onset:
+        return at ** p["alpha"]
+    a_t = p["alpha"] + p["alpha1"] * (1.0 + np.tanh((t - onset - p["alpha2"]) / p["alpha3"]))
+    A = at ** a_t
+    if x <= p["g1"] and v >= 0.0:
+        A /= (1.0 + p["beta"] * _phi(x, p)) * (1.0 + p["gamma"] * v)
+    return max(A, 1e-3)
+
+
+def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: LengthTrace,
+         lencomp: bool, movcomp: bool) -> list[float]:
+    CaSR, CaSRCS, CaSP, CaSPB, CaSPT, At, ext = y
+    d = t - spikes[spikes <= t]
+    s = float(np.sum((1.0 - np.exp(-d / p["tau1"])) * np.exp(-d / p["tau2"])))
+    R = CaSR * p["Rmax"] * s
+    c = max(CaSP, 0.0)
+    z = (c * p["K"]) ** 2
+    U = p["Umax"] * (z / (1.0 + c * p["K"] + z)) ** 2
+    x = float(np.interp(t, trace.t_ms, trace.xm_mm))
+    v = float(np.interp(t, trace.t_ms, trace.velocity_mm_s))
+    K5 = p["K5i"] * (_phi(x, p) if lencomp else 1.0)
+    K6 = p["K6i"] / (1.0 + 5.0 * At)
+    sr = p["K1"] * CaSR * (p["CS0"] - CaSRCS) - p["K2"] * CaSRCS
+    sb = p["K3"] * CaSP * (p["B0"] - CaSPB) - p["K4"] * CaSPB
+    st = K5 * CaSP * (p["T0"] - CaSPT) - K6 * CaSPT
+    xt = CaSPT / p["T0"]
+    ainf = 0.5 * (1.0 + np.tanh((xt - p["C1"]) / p["C2"]))
+    tau = p["C3"] / np.cosh((xt - p["C4"]) / (2.0 * p["C5"]))
+    A = activation(At, t, x, v, p, movcomp, trace.onset_ms)
+    F = p["P0"] * p["KSE"] * max(ext, 0.0)
+    Fc = p["P0"] * np.exp(-(((x - p["g1"]) / p["g2"]) ** 2)) * A
+    # the SE extension Xm - XCE (mm) is the state here: it resolves the tiny forces at rest that an
+    # absolute CE length (~ -8 mm) would hide below the tolerance
+    return [-sr - R + U, sr, -st - sb + R - U, sb, st, (ainf - At) / tau, (v - ce_velocity(F, Fc, p)) / 1000.0]
+
+
+def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: LengthTrace | float,
+                       duration_ms: float, *, record_dt_ms: float = 0.025, length_compensation: bool = True,
+                       movement_compensation: bool = False, rtol: float = 1e-8) -> ReferenceResult:
+    """Integrate the model with scipy Radau from the published initial state (ms, mm, N, M)."""
+    trace = length if isinstance(length, LengthTrace) else LengthTrace.isometric(float(length), duration_ms)
+    spikes = np.asarray(spikes_ms, dtype=float)
+    p = params
+    y0 = np.array([p["CaSR0"], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+    t_eval = np.arange(0.0, duration_ms + 0.5 * record_dt_ms, record_dt_ms)
+    # integrate piecewise between spikes so the solver never steps across a release onset
+    edges = np.unique(np.concatenate([[0.0], spikes[(spikes > 0) & (spikes < duration_ms)], [duration_ms]]))
+    ys, ts = [], []
+    y = y0
+    for a, b in zip(edges[:-1], edges[1:]):
+        sel = t_eval[(t_eval >= a) & (t_eval < b)] if b < duration_ms else t_eval[t_eval >= a]
+        sol = solve_ivp(_rhs, (a, b), y, method="Radau", rtol=rtol, atol=_ATOL, t_eval=sel, max_step=1.0,
+                        args=(p, spikes, trace, length_compensation, movement_compensation))
+        if sol.status != 0:
+            raise RuntimeError(f"reference integration failed on {a}..{b} ms: {sol.message}")
+        ys.append(sol.y)
+        ts.append(sol.t)
+        y = sol.y[:, -1]
+    Y = np.concatenate(ys, axis=1)
+    t = np.concatenate(ts)
+    x = trace.at(t)
+    v = trace.velocity_at(t)
+    A = np.array([activation(a, ti, xi, vi, p, movement_compensation, trace.onset_ms)
+                  for a, ti, xi, vi in zip(Y[5], t, x, v)])
+    F = p["P0"] * p["KSE"] * np.maximum(Y[6], 0.0)
+    names = ("CaSR", "CaSRCS", "CaSP", "CaSPB", "CaSPT")
+    return ReferenceResult(t, F, A, Y[5], {n: Y[i] for i, n in enumerate(names)})
