@@ -50,7 +50,9 @@ def _time_run(target: Any, force: Any, spikes: np.ndarray, duration_ms: float, d
     with _NeuronRun("fixed", dt_ms, 0.0, 0.0) as hh:
         hh.finitialize()
         t0 = time.perf_counter()
-        hh.continuerun(duration_ms)
+        pc = hh.ParallelContext()
+        pc.set_maxstep(10.0)
+        pc.psolve(duration_ms)
         wall = time.perf_counter() - t0
     del fih, nc
     return wall, np.array(tv), np.array(fv)

@@ -1,0 +1,154 @@
+"""The unit's Python API: spikes from any NetCon source, teardown, bad input, HDF5 with provenance."""
+
+import json
+
+import h5py
+import numpy as np
+import pytest
+
+from neuromuscle import InputError, LengthTrace, MuscleUnit, load_parameters, mechanism_hash, simulate
+from neuromuscle.protocols import twitch
+from neuromuscle.results import load_result
+from neuromuscle.unit import _NeuronRun
+
+
+def _force_after_run(unit, duration_ms=300.0):
+    from neuron import h
+
+    f = h.Vector().record(unit.force._ref_F, 0.1)
+    with _NeuronRun("fixed", 0.025, 0, 0) as hh:
+        hh.finitialize()
+        hh.continuerun(duration_ms)
+    return np.array(f)
+
+
+def test_spikes_from_a_hodgkin_huxley_soma_drive_the_unit(ct09):
+    """A motoneuron-like HH soma fires; its voltage crossing drives KimCa through a NetCon."""
+    from neuron import h
+
+    soma = h.Section(name="soma")
+    soma.L = soma.diam = 20.0
+    soma.insert("hh")
+    stim = h.IClamp(soma(0.5))
+    stim.delay, stim.dur, stim.amp = 100.0, 2.0, 1.0
+    with MuscleUnit(ct09, name="hh") as unit:
+        unit.length.xm = -8.0
+        nc = unit.connect_from(soma(0.5)._ref_v, section=soma, threshold_mV=0.0, delay_ms=2.0)
+        f = _force_after_run(unit)
+        assert unit.ca.nspike == 1
+        assert f.max() == pytest.approx(simulate(ct09, [102.0], -8.0, 300.0).force_N.max(), rel=0.01)
+        del nc
+
+
+def test_netstim_drives_the_unit_like_the_same_times_given_directly(ct09):
+    from neuron import h
+
+    ns = h.NetStim()
+    ns.start, ns.interval, ns.number, ns.noise = 50.0, 25.0, 8, 0.0
+    with MuscleUnit(ct09, name="ns") as unit:
+        unit.length.xm = -8.0
+        nc = unit.connect_from(ns, delay_ms=0.0)
+        f = _force_after_run(unit)
+        del nc
+    direct = simulate(ct09, 50.0 + 25.0 * np.arange(8), -8.0, 300.0, record_dt_ms=0.1).force_N
+    n = min(f.size, direct.size)
+    assert np.max(np.abs(f[:n] - direct[:n])) < 1e-3 * direct.max()
+
+
+def test_destroy_removes_the_unit_from_neuron(ct09):
+    from neuron import h
+
+    unit = MuscleUnit(ct09)
+    assert unit.ca.nspike == 0
+    unit.destroy()
+    assert not any(sec.name().startswith("unit_muscle") for sec in h.allsec())
+
+
+def test_simulations_do_not_leak_neuron_state(ct09):
+    from neuron import h
+
+    h.dt = 0.1
+    before = (len(list(h.allsec())), h.List("KimCa").count(), h.List("NetCon").count(), h.dt)
+    a = simulate(ct09, twitch(100.0), -8.0, 300.0, method="cvode")
+    b = simulate(ct09, twitch(100.0), -8.0, 300.0)
+    after = (len(list(h.allsec())), h.List("KimCa").count(), h.List("NetCon").count(), h.dt)
+    assert before == after
+    assert h.CVode().active() == 0
+    c = simulate(ct09, twitch(100.0), -8.0, 300.0)
+    np.testing.assert_array_equal(b.force_N, c.force_N)  # a run after a CVODE run is unchanged
+    assert a.force_N.max() > 0
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(spikes_ms=[10.0, float("nan")]), "spike times: non-finite"),
+    (dict(spikes_ms=[30.0, 10.0]), "not sorted"),
+    (dict(spikes_ms=[-1.0]), "negative time"),
+    (dict(length=LengthTrace(np.array([0.0, 100.0]), np.array([-8.0, -8.0]))), "shorter than the run"),
+    (dict(dt_ms=0.5), "dt_ms = 0.5 ms is too large"),
+    (dict(dt_ms=float("inf")), "dt_ms must be finite"),
+    (dict(duration_ms=-5.0), "duration_ms must be finite and > 0"),
+    (dict(method="rk4"), "method must be"),
+    (dict(length="long"), "length must be a LengthTrace"),
+])
+def test_bad_run_input_is_refused_before_neuron_runs(ct09, kwargs, match):
+    args = dict(spikes_ms=[10.0], length=-8.0, duration_ms=200.0)
+    args.update(kwargs)
+    spikes, length, dur = args.pop("spikes_ms"), args.pop("length"), args.pop("duration_ms")
+    with pytest.raises(InputError, match=match):
+        simulate(ct09, spikes, length, dur, **args)
+
+
+def test_bad_length_traces_are_refused():
+    with pytest.raises(InputError, match="strictly increasing"):
+        LengthTrace(np.array([0.0, 0.0, 1.0]), np.zeros(3))
+    with pytest.raises(InputError, match="non-finite"):
+        LengthTrace(np.array([0.0, 1.0]), np.array([0.0, np.inf]))
+
+
+def test_result_hdf5_round_trip_with_provenance(ct09, tmp_path):
+    r = simulate(ct09, twitch(50.0), -8.0, 200.0, provenance_extra={"seed": 42})
+    path = tmp_path / "r.h5"
+    r.save(str(path))
+    with pytest.raises(InputError, match="refusing to overwrite"):
+        r.save(str(path))
+    back = load_result(path)
+    np.testing.assert_array_equal(back.force_N, r.force_N)
+    assert dict(back.params) == dict(ct09)
+    assert back.provenance["mechanism_sha256"] == mechanism_hash()
+    assert back.provenance["seed"] == 42 and back.provenance["spikes_ms"] == [50.0]
+    assert back.provenance["versions"]["neuron"] != "not installed"
+    with h5py.File(path, "r") as f:
+        params = json.loads(f.attrs["parameters"])["parameters"]
+        assert params["P0"] == {"value": 23.0, "unit": "N"}
+    # replay from the file alone gives the same trace
+    again = simulate(back.params, back.provenance["spikes_ms"], -8.0, 200.0)
+    np.testing.assert_allclose(again.force_N, r.force_N, rtol=0, atol=1e-12)
+
+
+def test_movement_compensation_lowers_force_while_lengthening_below_optimum(ct09):
+    from neuromuscle.protocols import constant_rate, isokinetic_ramp
+
+    spikes = constant_rate(20, 1200.0, start_ms=100.0)
+    ramp = isokinetic_ramp(-14.0, -9.0, 5.0, 300.0, 1300.0)
+    off = simulate(ct09, spikes, ramp, 1300.0)
+    on = simulate(ct09, spikes, ramp, 1300.0, movement_compensation=True)
+    late = on.t_ms > 900.0
+    assert on.force_N[late].mean() < 0.9 * off.force_N[late].mean()
+    early = on.t_ms < 300.0
+    np.testing.assert_allclose(on.force_N[early], off.force_N[early])
+
+
+def test_length_compensation_switch(ct09):
+    on = simulate(ct09, twitch(100.0), -16.0, 400.0).force_N.max()
+    off = simulate(ct09, twitch(100.0), -16.0, 400.0, length_compensation=False).force_N.max()
+    assert on < off  # phi(-16) = 0.75 slows troponin binding
+
+
+def test_mashima_asymptote_is_reported(ct09):
+    """A fast stretch of an active muscle pushes F past eq 11's asymptote: reported, never a blow-up."""
+    from neuromuscle.protocols import constant_rate, isokinetic_ramp
+
+    ramp = isokinetic_ramp(-10.0, 0.0, 2000.0, 400.0, 600.0)
+    r = simulate(ct09, constant_rate(100, 500.0, start_ms=50.0), ramp, 600.0)
+    assert np.all(np.isfinite(r.force_N))
+    assert any("Mashima asymptote" in w for w in r.warnings)
