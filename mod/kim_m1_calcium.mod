@@ -69,6 +69,11 @@ ASSIGNED {
     nspike (1)
     a1 a2 a3 a4 a5 a6 a7
     b1 b2 b3 b4 b5 b6 b7
+    hc (ms)
+    e2c (1)
+    e12c (1)
+    g2c (1)
+    g12c (1)
 }
 
 STATE {
@@ -90,6 +95,7 @@ INITIAL {
     S2 = 0
     S12 = 0
     nspike = 0
+    hc = -1
     rates_coeffs()
 }
 
@@ -184,11 +190,19 @@ PROCEDURE exact_rhs() {
 PROCEDURE implicit_step(h (ms)) {
     LOCAL tau12, e2, e12, r, y1, y3, f1, f2, f3, f4, f5, J11, J12, J13, J21, J22, J31, J33, J34, J35, J43, J44, J53, J55, d2, d4, d5, m11, m13, m31, m33, c1, c3, det, D1, D2, D3, D4, D5, Up
     rates_coeffs()
-    tau12 = 1/(1/tau1 + 1/tau2)
-    e2 = exp(-h/tau2)
-    e12 = exp(-h/tau12)
+    if (h != hc) {
+        : kernel decay and step-mean factors depend only on the step: computed once per dt
+        tau12 = 1/(1/tau1 + 1/tau2)
+        e2c = exp(-h/tau2)
+        e12c = exp(-h/tau12)
+        g2c = tau2*(1 - e2c)/h
+        g12c = tau12*(1 - e12c)/h
+        hc = h
+    }
+    e2 = e2c
+    e12 = e12c
     : exact mean of Rmax (S2 - S12) over the step
-    r = Rmax*(S2*tau2*(1 - e2) - S12*tau12*(1 - e12))/h
+    r = Rmax*(S2*g2c - S12*g12c)
     y1 = CaSR
     y3 = CaSP
     R = y1*r

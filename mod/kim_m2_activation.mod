@@ -106,6 +106,10 @@ PROCEDURE activation() {
         }
     } else {
         alpha_t = alpha
-        A = pow(at, alpha)
+        if (alpha == 2) {
+            A = at*at
+        } else {
+            A = pow(at, alpha)
+        }
     }
 }

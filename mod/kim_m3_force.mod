@@ -55,6 +55,8 @@ ASSIGNED {
     nasym (1)
     aa (mm/ms)
     bb (/ms)
+    xmc (mm)
+    gc (1)
 }
 
 STATE {
@@ -64,6 +66,7 @@ STATE {
 INITIAL {
     xce = xm - F0/(P0*KSE)
     nasym = 0
+    xmc = 1e9
     se_force()
 }
 
@@ -107,7 +110,12 @@ PROCEDURE se_force() {
     if (F < 0) {
         F = 0
     }
-    Fc = P0*exp(-((xm - g1)/g2)^2)*act
+    if (xm != xmc) {
+        : force-length factor g(Xm) (eq 12), recomputed only when the length changes
+        gc = exp(-((xm - g1)/g2)^2)
+        xmc = xm
+    }
+    Fc = P0*gc*act
     if (Fc < 0) {
         Fc = 0
     }

@@ -303,9 +303,12 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
         hh.finitialize()
         if method == "cvode" and trace.onset_ms is not None and movcomp:
             hh.CVode().event(trace.onset_ms)
-        pc = hh.ParallelContext()
-        pc.set_maxstep(10.0)
-        pc.psolve(duration_ms)
+        if method == "cvode":
+            hh.continuerun(duration_ms)
+        else:  # psolve steps in C: no per-step hoc interpreter loop
+            pc = hh.ParallelContext()
+            pc.set_maxstep(10.0)
+            pc.psolve(duration_ms)
     out = {k: np.array(v) for k, v in recs.items()}
     xvec.play_remove()
     vvec.play_remove()
