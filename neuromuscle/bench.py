@@ -15,13 +15,9 @@ from .protocols import constant_rate
 from .unit import MuscleUnit, _NeuronRun
 
 
-def _published_unit(params: ParameterSet, xm_mm: float) -> tuple[Any, ...]:
+def _published_unit(params: ParameterSet, seg: Any, length: Any) -> tuple[Any, Any]:
     from neuron import h
 
-    sec = h.Section(name="published_muscle")
-    seg = sec(0.5)
-    length = h.MuscleLength(seg)
-    length.xm = xm_mm
     m12 = h.KimPublished(seg)
     for n in ("K1", "K2", "K3", "K4", "K5i", "K6i", "K", "Rmax", "Umax", "tau1", "tau2", "CS0", "B0", "T0",
               "CaSR0", "phi1", "phi2", "phi3", "phi4", "C1", "C2", "C3", "C4", "C5", "alpha"):
@@ -33,73 +29,86 @@ def _published_unit(params: ParameterSet, xm_mm: float) -> tuple[Any, ...]:
         setattr(force, n, params[n])
     force._ref_act = m12._ref_A
     force._ref_xm = length._ref_xm
-    return sec, length, m12, force
+    return m12, force
 
 
-def _time_run(target: Any, force: Any, spikes: np.ndarray, duration_ms: float, dt_ms: float,
-              record: bool = False) -> tuple[float, np.ndarray, np.ndarray]:
+def _build(scheme: str, params: ParameterSet, n_units: int) -> tuple[list[Any], list[Any], list[Any]]:
+    """n_units units of one scheme on one muscle section sharing one MuscleLength (as in a pool)."""
     from neuron import h
 
-    nc = h.NetCon(None, target)
-    nc.weight[0] = 1.0
-    fih = h.FInitializeHandler(1, lambda: [nc.event(float(t)) for t in spikes])
+    sec = h.Section(name="bench_muscle")
+    length = h.MuscleLength(sec(0.5))
+    length.xm = params["g1"]
+    keep: list[Any] = [sec, length]
+    targets, forces = [], []
+    for i in range(n_units):
+        if scheme == "ours":
+            u = MuscleUnit(params, section=sec, length_source=length, name=f"bench{i}")
+            keep.append(u)
+            targets.append(u.ca)
+            forces.append(u.force)
+        else:
+            m12, f = _published_unit(params, sec(0.5), length)
+            keep += [m12, f]
+            targets.append(m12)
+            forces.append(f)
+    return keep, targets, forces
+
+
+def _time_run(scheme: str, params: ParameterSet, spikes: np.ndarray, duration_ms: float, dt_ms: float,
+              n_units: int = 1, record: bool = False) -> tuple[float, np.ndarray, np.ndarray]:
+    """Wall time (s) of a fixed-step run of n_units units, each receiving ``spikes`` (ms)."""
+    from neuron import h
+
+    keep, targets, forces = _build(scheme, params, n_units)
+    ncs = [h.NetCon(None, tg) for tg in targets]
+    for nc in ncs:
+        nc.weight[0] = 1.0
+    fih = h.FInitializeHandler(1, lambda: [nc.event(float(t)) for nc in ncs for t in spikes])
     tv, fv = h.Vector(), h.Vector()
     if record:
         tv.record(h._ref_t, dt_ms)
-        fv.record(force._ref_F, dt_ms)
+        fv.record(forces[0]._ref_F, dt_ms)
     with _NeuronRun("fixed", dt_ms, 0.0, 0.0) as hh:
         hh.finitialize()
-        t0 = time.perf_counter()
         pc = hh.ParallelContext()
         pc.set_maxstep(10.0)
+        t0 = time.perf_counter()
         pc.psolve(duration_ms)
         wall = time.perf_counter() - t0
-    del fih, nc
+    del fih, ncs, keep
     return wall, np.array(tv), np.array(fv)
 
 
-def _ours(params: ParameterSet, spikes: np.ndarray, duration_ms: float, dt_ms: float,
-          record: bool = False) -> tuple[float, np.ndarray, np.ndarray]:
-    unit = MuscleUnit(params, name="bench")
-    unit.length.xm = params["g1"]
-    try:
-        return _time_run(unit.ca, unit.force, spikes, duration_ms, dt_ms, record)
-    finally:
-        unit.destroy()
-
-
-def _published(params: ParameterSet, spikes: np.ndarray, duration_ms: float, dt_ms: float,
-               record: bool = False) -> tuple[float, np.ndarray, np.ndarray]:
-    sec, length, m12, force = _published_unit(params, params["g1"])
-    return _time_run(m12, force, spikes, duration_ms, dt_ms, record)
-
-
 def bench_unit(params: ParameterSet, duration_ms: float = 10_000.0, dt_ms: float = 0.025,
-               repeats: int = 3) -> dict[str, Any]:
+               repeats: int = 3, pool_units: int = 20) -> dict[str, Any]:
     """Wall time (s) per simulated unit-second at 1 Hz and 100 Hz over duration_ms (ms), best of repeats,
-    for this package's unit and for the authors' scheme; plus both schemes' twitch accuracy at dt_ms."""
+    for this package's unit and for the authors' scheme (derivimplicit + spike-history loop), measured for
+    one unit alone (NEURON's fixed per-step cost included) and per unit in a pool of pool_units units on one
+    section; plus both schemes' twitch errors (%) at dt_ms against the SciPy reference."""
     load_mechanisms()
     out: dict[str, Any] = {"duration_ms": duration_ms, "dt_ms": dt_ms, "repeats": repeats,
-                           "parameter_set": params.name}
-    sec_per = duration_ms / 1000.0
-    for rate in (1, 100):
-        spikes = constant_rate(rate, duration_ms, start_ms=0.0)
-        ours = min(_ours(params, spikes, duration_ms, dt_ms)[0] for _ in range(repeats)) / sec_per
-        pub = min(_published(params, spikes, duration_ms, dt_ms)[0] for _ in range(repeats)) / sec_per
-        out[f"ours_s_per_unit_s_{rate}hz"] = ours
-        out[f"published_s_per_unit_s_{rate}hz"] = pub
-        out[f"speedup_{rate}hz"] = pub / ours
-    out["ours_100hz_over_1hz"] = out["ours_s_per_unit_s_100hz"] / out["ours_s_per_unit_s_1hz"]
-    # accuracy at the benchmark step, against the independent SciPy integration
+                           "pool_units": pool_units, "parameter_set": params.name}
+    unit_seconds = duration_ms / 1000.0
+    for label, n in (("single", 1), ("pool", pool_units)):
+        for rate in (1, 100):
+            spikes = constant_rate(rate, duration_ms, start_ms=0.0)
+            for scheme in ("ours", "published"):
+                best = min(_time_run(scheme, params, spikes, duration_ms, dt_ms, n)[0] for _ in range(repeats))
+                out[f"{label}_{scheme}_s_per_unit_s_{rate}hz"] = best / (unit_seconds * n)
+            out[f"{label}_speedup_{rate}hz"] = (out[f"{label}_published_s_per_unit_s_{rate}hz"]
+                                                / out[f"{label}_ours_s_per_unit_s_{rate}hz"])
+        out[f"{label}_ours_100hz_over_1hz"] = (out[f"{label}_ours_s_per_unit_s_100hz"]
+                                               / out[f"{label}_ours_s_per_unit_s_1hz"])
     from .reference import reference_simulate
 
     ref = reference_simulate(params, np.array([500.0]), params["g1"], 750.0)
     m_ref = twitch_metrics(ref.t_ms, ref.force_N, 500.0)
-    for name, fn in (("ours", _ours), ("published", _published)):
-        _, t, f = fn(params, np.array([500.0]), 750.0, dt_ms, record=True)
+    for scheme in ("ours", "published"):
+        _, t, f = _time_run(scheme, params, np.array([500.0]), 750.0, dt_ms, 1, record=True)
         m = twitch_metrics(t, f, 500.0)
-        out[f"{name}_twitch_peak_error_pct"] = 100 * abs(m.peak_N / m_ref.peak_N - 1)
-        out[f"{name}_twitch_ttp_error_pct"] = 100 * abs(m.time_to_peak_ms / m_ref.time_to_peak_ms - 1)
-        out[f"{name}_twitch_half_relaxation_error_pct"] = 100 * abs(
+        out[f"{scheme}_twitch_peak_error_pct"] = 100 * abs(m.peak_N / m_ref.peak_N - 1)
+        out[f"{scheme}_twitch_ttp_error_pct"] = 100 * abs(m.time_to_peak_ms / m_ref.time_to_peak_ms - 1)
+        out[f"{scheme}_twitch_half_relaxation_error_pct"] = 100 * abs(
             m.half_relaxation_ms / m_ref.half_relaxation_ms - 1)
     return out

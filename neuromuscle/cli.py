@@ -97,7 +97,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
     from .bench import bench_unit
     from .parameters import load_parameters
 
-    res = bench_unit(load_parameters(args.params), duration_ms=args.duration_ms, repeats=args.repeats)
+    res = bench_unit(load_parameters(args.params), duration_ms=args.duration_ms, repeats=args.repeats,
+                     pool_units=args.pool_units)
     if args.json:
         print(json.dumps(res, indent=2))
     else:
@@ -145,6 +146,7 @@ def build_parser() -> argparse.ArgumentParser:
     bu.add_argument("--params", default="CT09")
     bu.add_argument("--duration-ms", type=float, default=10_000.0)
     bu.add_argument("--repeats", type=int, default=3)
+    bu.add_argument("--pool-units", type=int, default=20, help="units sharing one section in the pool figure")
     bu.add_argument("--json", action="store_true")
     bu.set_defaults(func=cmd_bench)
     d = sub.add_parser("data", help="measured data files")
