@@ -234,7 +234,6 @@ class _NeuronRun:
 
 def _atol_scales(unit: MuscleUnit) -> None:
     """Per-state absolute tolerances for CVODE: concentrations are ~1e-4 M, lengths ~1 mm."""
-    cv = unit.ca  # noqa: F841  (tolerances are per state name, set on the CVode object)
     from neuron import h
 
     c = h.CVode()
@@ -258,8 +257,6 @@ def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTra
     _check_run(duration_ms, dt_ms, record_dt_ms, method)
     spikes = check_spike_times(spikes_ms)
     trace = _length_trace(length, duration_ms)
-    if spikes.size and spikes[-1] > duration_ms:
-        pass  # spikes after the end are simply never delivered
     unit = MuscleUnit(params, length_compensation=length_compensation,
                       movement_compensation=movement_compensation)
     try:
