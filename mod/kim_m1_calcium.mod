@@ -23,11 +23,11 @@ ENDCOMMENT
 
 NEURON {
     POINT_PROCESS KimCa
+    THREADSAFE
     RANGE K1, K2, K3, K4, K5i, K6i, K, Rmax, Umax, tau1, tau2, CS0, B0, T0, CaSR0
     RANGE phi1, phi2, phi3, phi4, xopt, lencomp
     RANGE R, U, K5, K6, phi, nspike
     POINTER atil, xm
-    THREADSAFE
 }
 
 UNITS {
@@ -119,11 +119,14 @@ DERIVATIVE states {
 }
 
 PROCEDURE rates_coeffs() {
-    : K5, K6 and the length factor phi from the current Atil and Xm (eq 18 and the cooperativity)
-    if (xm <= xopt) {
-        phi = phi1*xm + phi2
+    : K5, K6 and the length factor phi from the current Atil and Xm (eq 18 and the cooperativity);
+    : each POINTER is read once (a NEURON 9 pointer dereference is not free)
+    LOCAL x
+    x = xm
+    if (x <= xopt) {
+        phi = phi1*x + phi2
     } else {
-        phi = phi3*xm + phi4
+        phi = phi3*x + phi4
     }
     if (lencomp) {
         K5 = K5i*phi

@@ -21,11 +21,11 @@ ENDCOMMENT
 
 NEURON {
     POINT_PROCESS KimAct
+    THREADSAFE
     RANGE C1, C2, C3, C4, C5, T0, alpha, alpha1, alpha2, alpha3, beta, gamma
     RANGE phi1, phi2, phi3, phi4, xopt, movcomp, onset, Afloor
     RANGE A, alpha_t, Ainf, tauA, atil0
     POINTER caspt, xm, vm
-    THREADSAFE
 }
 
 PARAMETER {
@@ -60,6 +60,7 @@ ASSIGNED {
     alpha_t (1)
     Ainf (1)
     tauA (ms)
+    kA (/ms)
 }
 
 STATE {
@@ -77,15 +78,18 @@ BREAKPOINT {
 
 DERIVATIVE states {
     rates()
-    atil' = (Ainf - atil)/tauA
+    atil' = (Ainf - atil)*kA
     activation()
 }
 
 PROCEDURE rates() {
-    LOCAL x
+    : eq 8 with exponentials only: 0.5 (1 + tanh(u)) = 1/(1 + exp(-2u)), cosh(v) = (e^v + e^-v)/2
+    LOCAL x, ev
     x = caspt/T0
-    Ainf = 0.5*(1 + tanh((x - C1)/C2))
-    tauA = C3/cosh((x - C4)/(2*C5))
+    Ainf = 1/(1 + exp(-2*(x - C1)/C2))
+    ev = exp((x - C4)/(2*C5))
+    kA = 0.5*(ev + 1/ev)/C3
+    tauA = 1/kA
 }
 
 PROCEDURE activation() {

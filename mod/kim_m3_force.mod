@@ -25,10 +25,10 @@ ENDCOMMENT
 
 NEURON {
     POINT_PROCESS KimForce
+    THREADSAFE
     RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, F0
     RANGE F, Fc, vce, nasym
     POINTER act, xm
-    THREADSAFE
 }
 
 PARAMETER {
@@ -57,6 +57,8 @@ ASSIGNED {
     bb (/ms)
     xmc (mm)
     gc (1)
+    xl (mm)
+    al (1)
 }
 
 STATE {
@@ -64,7 +66,9 @@ STATE {
 }
 
 INITIAL {
-    xce = xm - F0/(P0*KSE)
+    xl = xm
+    al = act
+    xce = xl - F0/(P0*KSE)
     nasym = 0
     xmc = 1e9
     se_force()
@@ -76,11 +80,14 @@ BREAKPOINT {
 
 DERIVATIVE states {
     LOCAL k, dfdx
+    : the POINTERs are read once per evaluation into xl, al
+    xl = xm
+    al = act
     se_force()
     velocity()
     k = P0*KSE
     : taut SE (or just taut and being taken up): F depends on xce; slack: it does not
-    if (xm - xce > 0 || (xm - xce == 0 && vce < 0)) {
+    if (xl - xce > 0 || (xl - xce == 0 && vce < 0)) {
         dfdx = -k*dvdF/1000
     } else {
         dfdx = 0
@@ -91,10 +98,10 @@ DERIVATIVE states {
     } else {
         : one linearly implicit step: D = h f/(1 - h df/dxce)
         aa = (vce/1000)/(1 - dt*dfdx)
-        if (xm - xce < 0 && xce + dt*aa < xm) {
+        if (xl - xce < 0 && xce + dt*aa < xl) {
             : slack taken up within the step: stop where the SE becomes taut (no overshoot into the
             : stiff region by an explicit step)
-            aa = (xm - xce)/dt
+            aa = (xl - xce)/dt
         }
         bb = 0
         if (vce > 0 && F > 1e-3*P0 && F > Fc + asym*(Fc*(2 + c0/P0) - Fc)) {
@@ -106,16 +113,16 @@ DERIVATIVE states {
 }
 
 PROCEDURE se_force() {
-    F = P0*KSE*(xm - xce)
+    F = P0*KSE*(xl - xce)
     if (F < 0) {
         F = 0
     }
-    if (xm != xmc) {
+    if (xl != xmc) {
         : force-length factor g(Xm) (eq 12), recomputed only when the length changes
-        gc = exp(-((xm - g1)/g2)^2)
-        xmc = xm
+        gc = exp(-((xl - g1)/g2)^2)
+        xmc = xl
     }
-    Fc = P0*gc*act
+    Fc = P0*gc*al
     if (Fc < 0) {
         Fc = 0
     }

@@ -10,8 +10,8 @@ ENDCOMMENT
 
 NEURON {
     POINT_PROCESS MuscleLength
-    RANGE xm, vm
     THREADSAFE
+    RANGE xm, vm
 }
 
 PARAMETER {

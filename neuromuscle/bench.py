@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from .errors import NumericalError
 from .mechanisms import load_mechanisms
 from .metrics import twitch_metrics
 from .parameters import ParameterSet
@@ -76,6 +77,8 @@ def _time_run(scheme: str, params: ParameterSet, spikes: np.ndarray, duration_ms
         t0 = time.perf_counter()
         pc.psolve(duration_ms)
         wall = time.perf_counter() - t0
+    if scheme == "published" and any(tg.overflow for tg in targets):
+        raise NumericalError("KimPublished: spike history (10000) overflowed; shorten the benchmark")
     del fih, ncs, keep
     return wall, np.array(tv), np.array(fv)
 

@@ -285,9 +285,9 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
     if not trace.is_isometric:
         xvec.play(unit.length._ref_xm, tvec, 1)
         vvec.play(unit.length._ref_vm, tvec, 1)
-    recs = {"t": h.Vector(), "F": h.Vector(), "A": h.Vector(), "atil": h.Vector(), "xm": h.Vector(),
+    # time itself is not recorded (a record of t belongs to no thread): samples are at k * record_dt_ms
+    recs = {"F": h.Vector(), "A": h.Vector(), "atil": h.Vector(), "xm": h.Vector(),
             **{s: h.Vector() for s in CA_STATES}}
-    recs["t"].record(h._ref_t, record_dt_ms)
     recs["F"].record(unit.force._ref_F, record_dt_ms)
     recs["A"].record(unit.act._ref_A, record_dt_ms)
     recs["atil"].record(unit.act._ref_atil, record_dt_ms)
@@ -311,6 +311,7 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
     vvec.play_remove()
     n = min(len(v) for v in out.values())
     out = {k: v[:n] for k, v in out.items()}
+    out["t"] = np.arange(n) * record_dt_ms
     bad = [k for k, v in out.items() if not np.all(np.isfinite(v))]
     if bad:
         i = int(np.flatnonzero(~np.isfinite(out[bad[0]]))[0])

@@ -1,9 +1,8 @@
 """Compilation cache keyed by the mod files' content; the hoc-style nrnivmodl route."""
 
+import re
 import subprocess
 import sys
-
-import pytest  # noqa: F401
 
 from neuromuscle import mechanisms
 
@@ -17,11 +16,17 @@ def test_hash_changes_with_mod_content(tmp_path, monkeypatch):
     assert mechanisms.mechanism_hash() != h1
 
 
-def test_every_mod_file_names_its_equations_and_is_threadsafe():
+def test_every_mod_file_has_a_header_with_units_and_declares_threadsafe_first():
+    """THREADSAFE must precede POINTER in the NEURON block, or nocmodl silently makes the mechanism
+    thread-unsafe ("Use of POINTER is not thread safe")."""
     for f in mechanisms.mod_files():
         text = f.read_text()
-        assert "THREADSAFE" in text, f.name
-        assert text.startswith("COMMENT") and "Units" in text.split("ENDCOMMENT")[0] or "(mm" in text, f.name
+        header = text.split("ENDCOMMENT")[0]
+        assert text.startswith("COMMENT") and re.search(r"\bunits?\b|\(mm", header, re.I), f.name
+        block = re.search(r"NEURON \{(.*?)\}", text, re.S).group(1)
+        assert "THREADSAFE" in block, f.name
+        if "POINTER" in block:
+            assert block.index("THREADSAFE") < block.index("POINTER"), f.name
 
 
 def test_compiled_library_is_cached_and_loads_in_a_fresh_process(tmp_path):

@@ -152,3 +152,17 @@ def test_mashima_asymptote_is_reported(ct09):
     r = simulate(ct09, constant_rate(100, 500.0, start_ms=50.0), ramp, 600.0)
     assert np.all(np.isfinite(r.force_N))
     assert any("Mashima asymptote" in w for w in r.warnings)
+
+
+def test_mechanisms_run_multithreaded_with_identical_results(ct09):
+    """NEURON refuses threads for mechanisms that are not thread safe; with two threads the result is the same."""
+    from neuron import h
+
+    one = simulate(ct09, twitch(50.0), -8.0, 250.0)
+    pc = h.ParallelContext()
+    pc.nthread(2)
+    try:
+        two = simulate(ct09, twitch(50.0), -8.0, 250.0)
+    finally:
+        pc.nthread(1)
+    np.testing.assert_array_equal(one.force_N, two.force_N)
