@@ -1,0 +1,47 @@
+"""The command line: simulate writes HDF5 + PNG with provenance; errors exit 2 with a message; bench runs."""
+
+import json
+
+import h5py
+
+from neuromuscle.bench import bench_unit
+from neuromuscle.cli import main
+
+
+def test_simulate_writes_hdf5_and_png(tmp_path, capsys):
+    out = tmp_path / "sim.h5"
+    rc = main(["simulate", "--params", "CT09", "--protocol", "train", "--rate-hz", "20", "--train-ms", "300",
+               "--duration-ms", "900", "--out", str(out)])
+    assert rc == 0
+    assert out.is_file() and out.with_suffix(".png").stat().st_size > 1000
+    with h5py.File(out, "r") as f:
+        prov = json.loads(f.attrs["provenance"])
+        assert prov["protocol"] == {"protocol": "train", "rate_hz": 20.0, "start_ms": 500.0, "train_ms": 300.0}
+        assert f["force_N"][()].max() > 5.0
+    assert "peak force" in capsys.readouterr().out
+    # an existing output is not overwritten
+    assert main(["simulate", "--duration-ms", "600", "--out", str(out)]) == 2
+    assert "refusing to overwrite" in capsys.readouterr().err
+
+
+def test_simulate_random_length_is_seeded(tmp_path):
+    a, b = tmp_path / "a.h5", tmp_path / "b.h5"
+    for p in (a, b):
+        assert main(["simulate", "--protocol", "random-train", "--length", "random", "--seed", "4",
+                     "--duration-ms", "800", "--train-ms", "600", "--movement-compensation", "--out", str(p)]) == 0
+    with h5py.File(a, "r") as fa, h5py.File(b, "r") as fb:
+        assert (fa["force_N"][()] == fb["force_N"][()]).all()
+        assert json.loads(fa.attrs["provenance"])["length_protocol"] == {"length": "random", "seed": 4}
+
+
+def test_bad_parameter_set_exits_2(tmp_path, capsys):
+    assert main(["simulate", "--params", "CT99", "--out", str(tmp_path / "x.h5")]) == 2
+    assert "CT99" in capsys.readouterr().err
+
+
+def test_bench_unit_reports_both_schemes_and_accuracy(ct09):
+    res = bench_unit(ct09, duration_ms=300.0, repeats=1, pool_units=2)
+    for key in ("single_ours_s_per_unit_s_1hz", "single_published_s_per_unit_s_100hz", "pool_speedup_100hz",
+                "single_ours_100hz_over_1hz"):
+        assert res[key] > 0
+    assert res["ours_twitch_peak_error_pct"] < 0.5 and res["published_twitch_peak_error_pct"] < 0.5
