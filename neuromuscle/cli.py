@@ -76,7 +76,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     length, lproto = _length(args)
     result = simulate(params, spikes, length, args.duration_ms, dt_ms=args.dt_ms, method=args.method,
                       record_dt_ms=args.record_dt_ms, length_compensation=not args.no_length_compensation,
-                      movement_compensation=args.movement_compensation,
+                      movement_compensation=args.movement_compensation, excitation=args.excitation,
                       provenance_extra={"protocol": proto, "length_protocol": lproto,
                                         "command": " ".join(sys.argv)})
     out = Path(args.out)
@@ -136,6 +136,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--seed", type=int, default=0, help="seed of random protocols")
     s.add_argument("--no-length-compensation", action="store_true", help="switch eq 18 off")
     s.add_argument("--movement-compensation", action="store_true", help="switch eqs 19-20 on")
+    s.add_argument("--excitation", default="kim", choices=["kim", "hatze"],
+                   help="excitation model in front of Module 3: Kim Modules 1-2, or Hatze (seed 000, Table 2)")
     s.add_argument("--out", default="out/simulation.h5", help="output HDF5 file")
     s.add_argument("--png", default=None, help="figure (default: next to --out)")
     s.add_argument("--overwrite", action="store_true", help="replace an existing output file")

@@ -18,7 +18,12 @@ KimAct (M2)     caspt <- KimCa.CaSPT,       atil (Atil), A (activation)
                 xm, vm <- MuscleLength
 KimForce (M3)   act <- <excitation>.A,      xce (mm), F, Fc (N), vce (mm/s), nasym
                 xm <- MuscleLength.xm
+HatzeExc        -                           b, vb, g, vg (seed 000 eqs 6-7), A = q (eq 9)
+KimPublished    xm <- MuscleLength.xm       A (Modules 1-2 the authors' way; benchmark only)
 ==============  ==========================  ===============================================
+
+Swapping excitation models: any mechanism that takes spikes by NET_RECEIVE and exposes RANGE A in [0, 1] can be
+set in front of Module 3 with ``setpointer force.act, exc.A`` (``MuscleUnit(excitation="hatze")`` does this).
 
 Spikes arrive at KimCa (or another excitation mechanism) through NET_RECEIVE, so any NetCon source works.
 """
@@ -39,7 +44,7 @@ from pathlib import Path
 from .errors import MechanismBuildError
 
 #: Mechanisms the package needs; all come from ``mod/``.
-MECHANISMS = ("KimCa", "KimAct", "KimForce", "MuscleLength")
+MECHANISMS = ("KimCa", "KimAct", "KimForce", "MuscleLength", "HatzeExc", "KimPublished")
 
 
 def mod_dir() -> Path:

@@ -61,11 +61,14 @@ class MuscleUnit:
     movement_compensation: eqs 19-20 on the movement clock of the length input (``LengthTrace.onset_ms``).
     length_source: a MuscleLength point process to share (a pool's muscle); a private one is made if None.
     section: NEURON section that hosts the point processes; a private one-segment section if None.
+    excitation: "kim" (Modules 1-2: KimCa -> KimAct) or "hatze" (HatzeExc, seed 000 eqs 6-9, with
+        ``hatze_theta`` an ``neuromuscle.hatze.parameters.ExcitationTheta``, Table 2 if None); either one's A
+        drives Module 3 (KimForce) through the same POINTER.  Spikes go to ``self.receiver``.
     """
 
     def __init__(self, params: ParameterSet, *, length_compensation: bool = True,
                  movement_compensation: bool = False, length_source: Any = None, section: Any = None,
-                 name: str = "unit") -> None:
+                 name: str = "unit", excitation: str = "kim", hatze_theta: Any = None) -> None:
         if not isinstance(params, ParameterSet):
             raise InputError(f"{name}: params must be a ParameterSet (see load_parameters), got {type(params)}")
         load_mechanisms()
@@ -76,27 +79,50 @@ class MuscleUnit:
         self._sec = section if section is not None else h.Section(name=f"{name}_muscle")
         seg = self._sec(0.5)
         self.length = length_source if length_source is not None else h.MuscleLength(seg)
-        self.ca = h.KimCa(seg)
-        self.act = h.KimAct(seg)
+        if excitation == "kim":
+            self._build_kim(seg, length_compensation, movement_compensation)
+        elif excitation == "hatze":
+            self._build_hatze(seg, hatze_theta)
+        else:
+            raise InputError(f"{name}: excitation must be 'kim' or 'hatze', got {excitation!r}")
+        self.excitation = excitation
         self.force = h.KimForce(seg)
-        for n in _M1:
-            setattr(self.ca, n, params[n])
-        for n in _M2:
-            setattr(self.act, n, params[n])
         for n in _M3:
             setattr(self.force, n, params[n])
-        self.ca.xopt = self.act.xopt = params["g1"]
-        self.ca.lencomp = 1.0 if length_compensation else 0.0
-        self.act.movcomp = 1.0 if movement_compensation else 0.0
+        self.force._ref_act = self.act._ref_A
+        self.force._ref_xm = self.length._ref_xm
+        self._netcons: list[Any] = []
+        self._spike_times: list[np.ndarray] = []
+
+    def _build_kim(self, seg: Any, lencomp: bool, movcomp: bool) -> None:
+        from neuron import h
+
+        self.ca = h.KimCa(seg)
+        self.act = h.KimAct(seg)
+        for n in _M1:
+            setattr(self.ca, n, self.params[n])
+        for n in _M2:
+            setattr(self.act, n, self.params[n])
+        self.ca.xopt = self.act.xopt = self.params["g1"]
+        self.ca.lencomp = 1.0 if lencomp else 0.0
+        self.act.movcomp = 1.0 if movcomp else 0.0
         self.ca._ref_atil = self.act._ref_atil
         self.ca._ref_xm = self.length._ref_xm
         self.act._ref_caspt = self.ca._ref_CaSPT
         self.act._ref_xm = self.length._ref_xm
         self.act._ref_vm = self.length._ref_vm
-        self.force._ref_act = self.act._ref_A
-        self.force._ref_xm = self.length._ref_xm
-        self._netcons: list[Any] = []
-        self._spike_times: list[np.ndarray] = []
+        self.receiver = self.ca
+
+    def _build_hatze(self, seg: Any, theta: Any) -> None:
+        from neuron import h
+
+        from .hatze.parameters import load_theta
+
+        theta = load_theta() if theta is None else theta
+        self.act = h.HatzeExc(seg)  # exposes A = q (eq 9) like KimAct
+        for n in ("theta1", "theta2", "theta3", "theta4", "theta5"):
+            setattr(self.act, n, float(getattr(theta, n)))
+        self.receiver = self.act
 
     # -- spikes -------------------------------------------------------------------------------------------
     def connect_from(self, source: Any, *, threshold_mV: float = -10.0, delay_ms: float = 1.0,
@@ -106,9 +132,9 @@ class MuscleUnit:
         from neuron import h
 
         if section is not None:
-            with_sec = h.NetCon(source, self.ca, sec=section)
+            with_sec = h.NetCon(source, self.receiver, sec=section)
         else:
-            with_sec = h.NetCon(source, self.ca)
+            with_sec = h.NetCon(source, self.receiver)
         with_sec.threshold = threshold_mV
         with_sec.delay = delay_ms
         with_sec.weight[0] = 1.0
@@ -132,13 +158,13 @@ class MuscleUnit:
         from neuron import h
 
         if self._spike_times and not hasattr(self, "_event_netcon"):
-            self._event_netcon = h.NetCon(None, self.ca)
+            self._event_netcon = h.NetCon(None, self.receiver)
             self._event_netcon.weight[0] = 1.0
             self._fih = h.FInitializeHandler(1, self._queue_spikes)
 
     def destroy(self) -> None:
         """Remove every NEURON object this unit made (idempotent)."""
-        for attr in ("_fih", "_event_netcon", "force", "act", "ca", "length", "_sec"):
+        for attr in ("_fih", "_event_netcon", "receiver", "force", "act", "ca", "length", "_sec"):
             if hasattr(self, attr):
                 delattr(self, attr)
         self._netcons.clear()
@@ -232,8 +258,9 @@ class _NeuronRun:
         h.dt, h.steps_per_ms, h.secondorder = dt, spm, so
 
 
-def _atol_scales(unit: MuscleUnit) -> None:
-    """Per-state absolute tolerances for CVODE: concentrations are ~1e-4 M, lengths ~1 mm."""
+def _atol_scales() -> None:
+    """Per-state absolute tolerances for CVODE: concentrations ~1e-4 M, lengths ~1 mm, Hatze's beta ~1e-9 s^2
+    and gamma ~1e-15 s^4."""
     from neuron import h
 
     c = h.CVode()
@@ -242,26 +269,39 @@ def _atol_scales(unit: MuscleUnit) -> None:
         c.atolscale(f"KimCa.{st}", scale)
     c.atolscale("KimAct.atil", 1e-5)
     c.atolscale("KimForce.xce", 1e-6)
+    for st, scale in (("b", 1e-12), ("vb", 1e-9), ("g", 1e-18), ("vg", 1e-15)):
+        c.atolscale(f"HatzeExc.{st}", scale)
 
 
 def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTrace | float,
              duration_ms: float, *, dt_ms: float = 0.025, method: str = "fixed", record_dt_ms: float = 0.1,
              length_compensation: bool = True, movement_compensation: bool = False,
-             atol: float = 1e-3, rtol: float = 1e-6, provenance_extra: dict | None = None) -> SimulationResult:
+             atol: float = 1e-3, rtol: float = 1e-6, provenance_extra: dict | None = None,
+             excitation: str = "kim", hatze_theta: Any = None) -> SimulationResult:
     """Simulate one unit from 0 to duration_ms (ms).
 
     spikes_ms: stimulus times (ms, sorted, finite, >= 0).  length: a LengthTrace or a constant length (mm).
     method: "fixed" (linearly implicit step dt_ms) or "cvode" (variable step, atol/rtol; spikes as events).
     Records every record_dt_ms (ms).  The length is played continuously into the unit's MuscleLength.
+    excitation: "kim" (Modules 1-2) or "hatze" (seed 000 eqs 6-9, ``hatze_theta``) in front of Module 3.
     """
     _check_run(duration_ms, dt_ms, record_dt_ms, method)
     spikes = check_spike_times(spikes_ms)
     trace = _length_trace(length, duration_ms)
+    if excitation == "hatze" and spikes.size > 1 and np.min(np.diff(spikes)) < 1.0:
+        raise InputError("spike times: Hatze pulses last 1 ms and may not overlap; an interval is "
+                         f"{np.min(np.diff(spikes)):.3f} ms")
     unit = MuscleUnit(params, length_compensation=length_compensation,
-                      movement_compensation=movement_compensation)
+                      movement_compensation=movement_compensation, excitation=excitation,
+                      hatze_theta=hatze_theta)
+    extra = dict(provenance_extra or {})
+    extra["excitation"] = excitation
+    if excitation == "hatze":
+        extra["hatze_theta_SI"] = {n: float(getattr(unit.act, n)) for n in
+                                   ("theta1", "theta2", "theta3", "theta4", "theta5")}
     try:
         return _run(unit, spikes, trace, duration_ms, dt_ms, method, record_dt_ms, atol, rtol,
-                    dict(provenance_extra or {}), length_compensation, movement_compensation)
+                    extra, length_compensation, movement_compensation)
     finally:
         unit.destroy()
 
@@ -275,7 +315,8 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
 
     unit.add_spike_times(spikes)
     unit.prepare()
-    if trace.onset_ms is not None:
+    kim = unit.excitation == "kim"
+    if trace.onset_ms is not None and kim:
         unit.act.onset = trace.onset_ms
     tvec = h.Vector(trace.t_ms)
     xvec = h.Vector(trace.xm_mm)
@@ -286,17 +327,19 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
         xvec.play(unit.length._ref_xm, tvec, 1)
         vvec.play(unit.length._ref_vm, tvec, 1)
     # time itself is not recorded (a record of t belongs to no thread): samples are at k * record_dt_ms
+    states = CA_STATES if kim else ()
     recs = {"F": h.Vector(), "A": h.Vector(), "atil": h.Vector(), "xm": h.Vector(),
-            **{s: h.Vector() for s in CA_STATES}}
+            **{s: h.Vector() for s in states}}
     recs["F"].record(unit.force._ref_F, record_dt_ms)
     recs["A"].record(unit.act._ref_A, record_dt_ms)
-    recs["atil"].record(unit.act._ref_atil, record_dt_ms)
+    # Hatze's model has no Atil: its gamma (s^4) is recorded in that slot
+    recs["atil"].record(unit.act._ref_atil if kim else unit.act._ref_g, record_dt_ms)
     recs["xm"].record(unit.length._ref_xm, record_dt_ms)
-    for s in CA_STATES:
+    for s in states:
         recs[s].record(getattr(unit.ca, f"_ref_{s}"), record_dt_ms)
     with _NeuronRun(method, dt_ms, atol, rtol) as hh:
         if method == "cvode":
-            _atol_scales(unit)
+            _atol_scales()
         hh.finitialize()
         if method == "cvode" and trace.onset_ms is not None and movcomp:
             hh.CVode().event(trace.onset_ms)
@@ -326,10 +369,10 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
                 "record_dt_ms": record_dt_ms, "atol": atol if method == "cvode" else None,
                 "rtol": rtol if method == "cvode" else None, "length_compensation": lencomp,
                 "movement_compensation": movcomp, "movement_onset_ms": trace.onset_ms,
-                "n_spikes": int(spikes.size)}
+                "n_spikes": int(spikes.size), "excitation": unit.excitation}
     return SimulationResult(
         t_ms=out["t"], force_N=out["F"], A=out["A"], atil=out["atil"],
-        ca_M={s: out[s] for s in CA_STATES}, length_mm=out["xm"], params=unit.params, settings=settings,
+        ca_M={s: out[s] for s in states}, length_mm=out["xm"], params=unit.params, settings=settings,
         warnings=warnings,
         provenance=provenance(settings=settings, parameter_set=unit.params.name, spikes_ms=spikes.tolist(),
                               **extra))
