@@ -37,6 +37,7 @@ def _build(scheme: str, params: ParameterSet, n_units: int) -> tuple[list[Any], 
     """n_units units of one scheme on one muscle section sharing one MuscleLength (as in a pool)."""
     from neuron import h
 
+    load_mechanisms()
     sec = h.Section(name="bench_muscle")
     length = h.MuscleLength(sec(0.5))
     length.xm = params["g1"]

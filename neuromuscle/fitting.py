@@ -480,8 +480,11 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     "praxis" (NEURON's h.fit_praxis on the cost, the seed's baseline; serial; bounds by clipping plus a
     penalty).  map_fn(fn, iterable) evaluates candidates (any ``map``: serial by default, a process pool with
     ``workers`` > 1).  checkpoint: JSON path written after every iteration; resume=True starts from it.
-    tolerance: scipy's ftol/xtol (least_squares) or praxis' tolerance in z.
+    tolerance: scipy's ftol/xtol/gtol (least_squares) or praxis' tolerance in z.  max_iterations: iterations
+    (Jacobians; praxis: rounds of 2k+2 evaluations) of this call; the best point so far is returned after it.
     """
+    if not (isinstance(max_iterations, int) and max_iterations >= 1):
+        raise InputError(f"max_iterations must be an integer >= 1, got {max_iterations!r}")
     if method not in METHODS:
         raise InputError(f"method must be one of {METHODS}, got {method!r}")
     if fd not in ("central", "forward"):
@@ -515,11 +518,12 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
             return rs
 
         if method == "least_squares":
-            z, message = _least_squares(problem, z0, lo, hi, run_all, tracker, fd, fd_step, max_iterations,
-                                        tolerance)
+            z, message, jr = _least_squares(problem, z0, lo, hi, run_all, tracker, fd, fd_step,
+                                            max_iterations, tolerance)
         else:
             z, message = _praxis(problem, z0, lo, hi, run_all, tracker, max_iterations, tolerance)
-        jac, r = _jacobian(z, lo, hi, run_all, fd, fd_step, None)
+            jr = None
+        jac = jr[0] if jr is not None else _jacobian(z, lo, hi, run_all, fd, fd_step, None)[0]
     finally:
         if pool is not None:
             pool.shutdown()
@@ -576,12 +580,19 @@ def _jacobian(z: np.ndarray, lo: np.ndarray, hi: np.ndarray, run_all: Callable, 
     return jac, r0
 
 
+class _IterationLimit(Exception):
+    """Raised inside the optimiser's Jacobian callback when the iteration budget of this run is spent."""
+
+
 def _least_squares(problem: FitProblem, z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, run_all: Callable,
                    tracker: _Tracker, fd: str, h: float, max_iterations: int,
-                   tol: float) -> tuple[np.ndarray, str]:
+                   tol: float) -> tuple[np.ndarray, str, tuple[np.ndarray, np.ndarray] | None]:
+    """scipy's trust-region reflective least squares in z; returns z, a message and (J, r) at z if known."""
     from scipy.optimize import least_squares
 
     cache: dict[bytes, np.ndarray] = {}
+    last: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+    done = [0]
 
     def fun(z: np.ndarray) -> np.ndarray:
         key = np.asarray(z, dtype=float).tobytes()
@@ -592,17 +603,27 @@ def _least_squares(problem: FitProblem, z0: np.ndarray, lo: np.ndarray, hi: np.n
         return r if np.all(np.isfinite(r)) else np.full(r.size, 1e150)
 
     def jac(z: np.ndarray) -> np.ndarray:
+        if done[0] >= max_iterations:
+            raise _IterationLimit
         z = np.array(z, dtype=float)
         r0 = fun(z)
         j, _ = _jacobian(z, lo, hi, run_all, fd, h, r0)
+        last.clear()
+        last[z.tobytes()] = (j, r0)
+        done[0] += 1
         tracker.iteration(z, float(r0 @ r0))
         return j
 
-    # trf keeps iterates strictly inside the bounds; a start on a bound is moved inside by scipy
+    # trf keeps iterates strictly inside the bounds: a start on a bound is nudged inside
     z_in = np.clip(z0, lo + 1e-10 * (hi - lo), hi - 1e-10 * (hi - lo))
-    sol = least_squares(fun, z_in, jac=jac, bounds=(lo, hi), method="trf", x_scale=1.0, ftol=tol, xtol=tol,
-                        gtol=tol, max_nfev=max_iterations * 2 + 1)
-    return np.asarray(sol.x, dtype=float), str(sol.message)
+    try:
+        sol = least_squares(fun, z_in, jac=jac, bounds=(lo, hi), method="trf", x_scale=1.0, ftol=tol, xtol=tol,
+                            gtol=tol, max_nfev=max(10 * max_iterations, 50))
+        z, message = np.asarray(sol.x, dtype=float), str(sol.message)
+    except _IterationLimit:
+        z = tracker.best_z if tracker.best_z is not None else z_in
+        message = f"stopped after max_iterations = {max_iterations} iterations (resume to continue)"
+    return z, message, last.get(z.tobytes())
 
 
 def _praxis(problem: FitProblem, z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, run_all: Callable,
@@ -626,7 +647,7 @@ def _praxis(problem: FitProblem, z0: np.ndarray, lo: np.ndarray, hi: np.ndarray,
         n_eval[0] += 1
         if n_eval[0] % per_round == 0:
             tracker.iteration(tracker.best_z if tracker.best_z is not None else zc, tracker.best_cost)
-            if tracker.n_iter >= max_iterations:
+            if n_eval[0] // per_round >= max_iterations:
                 h.stoprun = 1
         return c
 
