@@ -12,6 +12,7 @@ from typing import Mapping, Sequence
 import numpy as np
 from scipy import signal
 
+from .checks import finite_number, positive_number
 from .errors import InputError
 
 #: Largest condition number accepted for the 2x2 systems of eqs 13-16.
@@ -49,23 +50,6 @@ def _series(name: str, values: object) -> np.ndarray:
     return arr
 
 
-def _finite(name: str, value: object) -> float:
-    if isinstance(value, bool):
-        raise InputError(f"{name} must be a finite number, got {value!r}")
-    try:
-        x = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a finite number, got {value!r}") from None
-    if not math.isfinite(x):
-        raise InputError(f"{name} must be a finite number, got {x}")
-    return x
-
-
-def _positive(name: str, value: object) -> float:
-    x = _finite(name, value)
-    if x <= 0.0:
-        raise InputError(f"{name} must be > 0, got {x}")
-    return x
 
 
 def _solve_2x2(name: str, matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
@@ -86,7 +70,7 @@ def hill_mashima_coefficients(points: Sequence[tuple[float, float]], P0_N: float
     lengthening pair.
     """
     pts = _points("points", points)
-    p0 = _positive("P0_N", P0_N)
+    p0 = positive_number("P0_N", P0_N)
     short, lengthen = pts[pts[:, 0] < 0.0], pts[pts[:, 0] > 0.0]
     if len(pts) != 4 or len(short) != 2 or len(lengthen) != 2:
         raise InputError("points must hold exactly two shortening (V < 0) and two lengthening (V > 0) "
@@ -121,7 +105,7 @@ def length_compensation_coefficients(points: Sequence[tuple[float, float]], x_op
     through all points, returned as both halves.
     """
     pts = _points("points", points)
-    x_opt = _finite("x_opt_mm", x_opt_mm)
+    x_opt = finite_number("x_opt_mm", x_opt_mm)
     if split:
         phi1, phi2 = _line(f"points at or below x_opt_mm = {x_opt}", pts[pts[:, 0] <= x_opt])
         phi3, phi4 = _line(f"points at or above x_opt_mm = {x_opt}", pts[pts[:, 0] >= x_opt])
@@ -203,7 +187,7 @@ def inverse_activation(t_ms: Sequence[float], force_N: Sequence[float], length_m
         raise InputError(f"t_ms must be strictly increasing (sample {bad})")
     p = _module3(params)
     if smooth_ms is not None:
-        width = _positive("smooth_ms", smooth_ms)
+        width = positive_number("smooth_ms", smooth_ms)
         force, xm = _smooth("force_N", force, t, width), _smooth("length_mm", xm, t, width)
     per_s = 1000.0  # d/dt in 1/ms -> 1/s
     dxm_dt = np.gradient(xm, t, edge_order=2)  # mm/ms

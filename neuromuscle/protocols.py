@@ -16,6 +16,7 @@ from numbers import Integral
 import numpy as np
 from scipy import signal
 
+from .checks import finite_number, positive_number
 from .errors import InputError
 from .length import LengthTrace
 
@@ -25,28 +26,10 @@ MIN_INTERVAL_MS = 10.0
 
 # ---------------------------------------------------------------------------------------------- validation
 
-def _finite(name: str, value: object) -> float:
-    """``value`` as a float; InputError naming ``name`` unless it is a finite real number."""
-    if isinstance(value, bool):
-        raise InputError(f"{name} must be a finite number, got {value!r}")
-    try:
-        x = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a finite number, got {value!r}") from None
-    if not math.isfinite(x):
-        raise InputError(f"{name} must be a finite number, got {x}")
-    return x
-
-
-def _positive(name: str, value: object) -> float:
-    x = _finite(name, value)
-    if x <= 0.0:
-        raise InputError(f"{name} must be > 0, got {x}")
-    return x
 
 
 def _nonnegative(name: str, value: object) -> float:
-    x = _finite(name, value)
+    x = finite_number(name, value)
     if x < 0.0:
         raise InputError(f"{name} must be >= 0, got {x}")
     return x
@@ -67,8 +50,8 @@ def twitch(at_ms: float = 500.0) -> np.ndarray:
 
 def constant_rate(rate_hz: float, duration_ms: float, start_ms: float = 500.0) -> np.ndarray:
     """Spikes (ms) at ``start_ms + k * 1000 / rate_hz`` for every k >= 0 with time < start_ms + duration_ms."""
-    rate = _positive("rate_hz", rate_hz)
-    duration = _positive("duration_ms", duration_ms)
+    rate = positive_number("rate_hz", rate_hz)
+    duration = positive_number("duration_ms", duration_ms)
     start = _nonnegative("start_ms", start_ms)
     n_periods = duration * rate / 1000.0
     count = max(1, math.ceil(n_periods - 1e-9 * max(1.0, n_periods)))  # k < n_periods, rounding-safe
@@ -82,10 +65,10 @@ def random_interval(mean_interval_ms: float, duration_ms: float, seed: int,
     Follows the seed's wording literally, so the intervals average ``mean_interval_ms + 5`` ms.  Spikes stop
     before ``start_ms + duration_ms``.  The k-th interval depends only on ``seed`` (not on the duration).
     """
-    mean = _finite("mean_interval_ms", mean_interval_ms)
+    mean = finite_number("mean_interval_ms", mean_interval_ms)
     if mean <= MIN_INTERVAL_MS:
         raise InputError(f"mean_interval_ms must be > {MIN_INTERVAL_MS} ms (the shortest interval), got {mean}")
-    duration = _positive("duration_ms", duration_ms)
+    duration = positive_number("duration_ms", duration_ms)
     start = _nonnegative("start_ms", start_ms)
     rng = np.random.default_rng(_seed(seed))
     intervals = rng.uniform(MIN_INTERVAL_MS, 2.0 * mean, size=math.ceil(duration / MIN_INTERVAL_MS) + 1)
@@ -112,19 +95,19 @@ def _piecewise_linear(name: str, duration_ms: float, sample_ms: float,
 
 def isometric(xm_mm: float, duration_ms: float) -> LengthTrace:
     """Length held at ``xm_mm`` (mm) from 0 to ``duration_ms`` (ms)."""
-    return LengthTrace.isometric(_finite("xm_mm", xm_mm), _positive("duration_ms", duration_ms))
+    return LengthTrace.isometric(finite_number("xm_mm", xm_mm), positive_number("duration_ms", duration_ms))
 
 
 def step_shortening(xm_mm: float, step_mm: float, at_ms: float, duration_ms: float,
                     ramp_ms: float = 1.0, sample_ms: float = 0.1) -> LengthTrace:
     """Series-elastic stiffness test: hold ``xm_mm`` (mm), shorten by ``step_mm`` (mm, > 0) linearly over
     ``ramp_ms`` (ms) from ``at_ms`` (ms), hold to ``duration_ms`` (ms); sampled every ``sample_ms`` (ms)."""
-    x0 = _finite("xm_mm", xm_mm)
-    step = _positive("step_mm", step_mm)
+    x0 = finite_number("xm_mm", xm_mm)
+    step = positive_number("step_mm", step_mm)
     at = _nonnegative("at_ms", at_ms)
-    duration = _positive("duration_ms", duration_ms)
-    ramp = _positive("ramp_ms", ramp_ms)
-    dt = _positive("sample_ms", sample_ms)
+    duration = positive_number("duration_ms", duration_ms)
+    ramp = positive_number("ramp_ms", ramp_ms)
+    dt = positive_number("sample_ms", sample_ms)
     if at + ramp > duration:
         raise InputError(f"at_ms + ramp_ms ({at + ramp} ms) must not exceed duration_ms ({duration} ms)")
     return _piecewise_linear(f"step shortening {step} mm at {at} ms", duration, dt,
@@ -138,16 +121,16 @@ def isokinetic_ramp(x_start_mm: float, x_end_mm: float, velocity_mm_s: float, st
 
     The sign of ``velocity_mm_s`` is ignored: the direction is from x_start to x_end.
     """
-    x0 = _finite("x_start_mm", x_start_mm)
-    x1 = _finite("x_end_mm", x_end_mm)
-    speed = abs(_finite("velocity_mm_s", velocity_mm_s))
+    x0 = finite_number("x_start_mm", x_start_mm)
+    x1 = finite_number("x_end_mm", x_end_mm)
+    speed = abs(finite_number("velocity_mm_s", velocity_mm_s))
     if speed == 0.0:
         raise InputError("velocity_mm_s must be non-zero")
     if x1 == x0:
         raise InputError(f"x_end_mm must differ from x_start_mm ({x0} mm); use isometric() for a hold")
     start = _nonnegative("start_ms", start_ms)
-    duration = _positive("duration_ms", duration_ms)
-    dt = _positive("sample_ms", sample_ms)
+    duration = positive_number("duration_ms", duration_ms)
+    dt = positive_number("sample_ms", sample_ms)
     stop = start + abs(x1 - x0) / speed * 1000.0
     if stop > duration:
         raise InputError(f"duration_ms ({duration} ms) ends before the ramp does ({stop} ms): "
@@ -204,14 +187,14 @@ def random_length(duration_ms: float, seed: int, centre_mm: float = -8.0, low_mm
     at ``centre_mm`` with zero velocity.  The excursion is then shifted to average exactly ``centre_mm`` and
     scaled so the larger excursion just reaches ``low_mm`` or ``high_mm``; nothing is clipped.
     """
-    duration = _positive("duration_ms", duration_ms)
+    duration = positive_number("duration_ms", duration_ms)
     rng_seed = _seed(seed)
-    centre, low, high = (_finite(n, v) for n, v in
+    centre, low, high = (finite_number(n, v) for n, v in
                          (("centre_mm", centre_mm), ("low_mm", low_mm), ("high_mm", high_mm)))
     if not low < centre < high:
         raise InputError(f"need low_mm < centre_mm < high_mm, got {low}, {centre}, {high}")
-    fs = _positive("sample_rate_hz", sample_rate_hz)
-    band = _positive("band_hz", band_hz)
+    fs = positive_number("sample_rate_hz", sample_rate_hz)
+    band = positive_number("band_hz", band_hz)
     if band >= fs / 2.0:
         raise InputError(f"band_hz ({band} Hz) must be below half of sample_rate_hz ({fs / 2.0} Hz)")
     taps = _default_numtaps(band, fs) if numtaps is None else numtaps
