@@ -137,7 +137,7 @@ def _module3(params: Mapping[str, float]) -> dict[str, float]:
     if missing:
         raise InputError(f"params lacks {', '.join(missing)} (needs {', '.join(MODULE3_KEYS)})")
     positive = ("P0", "KSE", "g2", "b0", "d0")
-    return {k: (_positive if k in positive else _finite)(f"params[{k!r}]", params[k]) for k in MODULE3_KEYS}
+    return {k: (positive_number if k in positive else finite_number)(f"params[{k!r}]", params[k]) for k in MODULE3_KEYS}
 
 
 def _smooth(name: str, y: np.ndarray, t_ms: np.ndarray, smooth_ms: float) -> np.ndarray:
