@@ -356,10 +356,12 @@ def _uncertainty(problem: FitProblem, z: np.ndarray, jac_z: np.ndarray, resid: n
     smax = svals[0] if svals.size and svals[0] > 0 else 1.0
     for j, s in enumerate(svals):
         if s < ident_rcond * smax:
-            for i in np.flatnonzero(np.abs(vt[j]) > 0.2):
+            involved = np.flatnonzero(np.abs(vt[j]) > 0.2)
+            for i in involved:
+                others = ", ".join(names[m] for m in involved if m != i) or "nothing else"
                 flags.setdefault(names[i], f"lies in a near-singular direction (singular value {s / smax:.2g} of "
-                                           f"the largest) with {', '.join(names[m] for m in np.flatnonzero(np.abs(vt[j]) > 0.2) if m != i) or 'nothing else'}")
-    # covariance in z (pseudo-inverse drops exactly singular directions), then to parameter units
+                                           f"the largest) with {others}")
+    # covariance in z (infinite along exactly singular directions), then to parameter units
     inv_s2 = np.array([1.0 / s ** 2 if s > 1e-12 * smax else np.inf for s in svals])
     with np.errstate(invalid="ignore"):
         cov_n = (vt.T * inv_s2) @ vt if np.all(np.isfinite(inv_s2)) else _cov_inf(vt, inv_s2)
