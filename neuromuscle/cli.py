@@ -1,4 +1,5 @@
-"""Command line: ``neuromuscle simulate``, ``neuromuscle bench unit``, ``neuromuscle data check``."""
+"""Command line: ``neuromuscle simulate``, ``neuromuscle bench unit``, ``neuromuscle data check``,
+``neuromuscle twitch-to-tetanus``."""
 
 from __future__ import annotations
 
@@ -94,11 +95,14 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
-    from .bench import bench_unit
+    from .bench import bench_fit, bench_unit
     from .parameters import load_parameters
 
-    res = bench_unit(load_parameters(args.params), duration_ms=args.duration_ms, repeats=args.repeats,
-                     pool_units=args.pool_units)
+    if args.what == "fit":
+        res = bench_fit(load_parameters(args.params))
+    else:
+        res = bench_unit(load_parameters(args.params), duration_ms=args.duration_ms, repeats=args.repeats,
+                         pool_units=args.pool_units)
     if args.json:
         print(json.dumps(res, indent=2))
     else:
@@ -111,6 +115,20 @@ def cmd_data_check(args: argparse.Namespace) -> int:
     from .measured import check_file
 
     print(check_file(args.file))
+    return 0
+
+
+def cmd_twitch_to_tetanus(args: argparse.Namespace) -> int:
+    from .hatze.workflow import run_twitch_to_tetanus
+
+    rep = run_twitch_to_tetanus(args.out, subject=args.subject, twitch_csv=args.twitch_csv, noise_nm=args.noise_nm,
+                                seed=args.seed, stim_time_s=args.stim_time_s, overwrite=args.overwrite,
+                                max_evaluations=args.max_evaluations)
+    fit = rep["fit"]
+    print(f"twitch ({rep['twitch']['source']}, subject {rep['twitch']['subject']}): rms residual "
+          f"{fit['rms_residual_nm']:.4f} N m after {fit['n_evaluations']} evaluations; trend m (subject 3) "
+          f"{rep['trend']['subjects']['3']['m_per_s']:.2f} 1/s (Table 3: 7.94)")
+    print(f"wrote {args.out}/report.json, report.md and figures")
     return 0
 
 
@@ -151,11 +169,27 @@ def build_parser() -> argparse.ArgumentParser:
     bu.add_argument("--pool-units", type=int, default=20, help="units sharing one section in the pool figure")
     bu.add_argument("--json", action="store_true")
     bu.set_defaults(func=cmd_bench)
+    bf = bsub.add_parser("fit", help="Module 2 calibration on the standard synthetic set, serial and 2 workers")
+    bf.add_argument("--params", default="CT09")
+    bf.add_argument("--json", action="store_true")
+    bf.set_defaults(func=cmd_bench)
     d = sub.add_parser("data", help="measured data files")
     dsub = d.add_subparsers(dest="what", required=True)
     dc = dsub.add_parser("check", help="validate a measured-data HDF5 file and summarise its trials")
     dc.add_argument("file")
     dc.set_defaults(func=cmd_data_check)
+    tt = sub.add_parser("twitch-to-tetanus",
+                        help="seed 000 workflow: fit theta to a twitch, predict trains, trend fits, rise times")
+    tt.add_argument("--out", default="out/twitch_to_tetanus", help="output directory (report.json, report.md, PNGs)")
+    tt.add_argument("--subject", default="3", help="Table 1 subject (1-4) of the twitch")
+    tt.add_argument("--twitch-csv", default=None,
+                    help="measured twitch: CSV with columns time_s, moment_nm (default: synthetic twitch)")
+    tt.add_argument("--stim-time-s", type=float, default=0.02, help="stimulus time of the twitch (s)")
+    tt.add_argument("--noise-nm", type=float, default=0.05, help="noise of the synthetic twitch (N m)")
+    tt.add_argument("--seed", type=int, default=0, help="seed of the synthetic twitch's noise")
+    tt.add_argument("--max-evaluations", type=int, default=200, help="Levenberg-Marquardt evaluations")
+    tt.add_argument("--overwrite", action="store_true", help="replace an existing report in --out")
+    tt.set_defaults(func=cmd_twitch_to_tetanus)
     return ap
 
 

@@ -45,3 +45,12 @@ def test_bench_unit_reports_both_schemes_and_accuracy(ct09):
                 "single_ours_100hz_over_1hz"):
         assert res[key] > 0
     assert res["ours_twitch_peak_error_pct"] < 0.5 and res["published_twitch_peak_error_pct"] < 0.5
+
+
+def test_standard_synthetic_fit_set(ct09):
+    from neuromuscle.bench import synthetic_module2_set
+
+    trials = synthetic_module2_set(ct09)
+    assert [t.trial_id for t in trials] == ["twitch", "train10", "train20", "train40"]
+    peaks = [t.force.max() for t in trials]
+    assert peaks == sorted(peaks) and peaks[-1] > 0.8 * ct09["P0"]
