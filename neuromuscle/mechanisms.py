@@ -19,6 +19,7 @@ KimAct (M2)     caspt <- KimCa.CaSPT,       atil (Atil), A (activation)
 KimForce (M3)   act <- <excitation>.A,      xce (mm), F, Fc (N), vce (mm/s), nasym
                 xm <- MuscleLength.xm
 HatzeExc        -                           b, vb, g, vg (seed 000 eqs 6-7), A = q (eq 9)
+HatzeTrend      -                           g (eq 10 trend, nu played as rate/100 Hz), A = q
 HatzeMTC        act <- <excitation>.A       phi_ce (rad), M (N m), omega_ce (rad/s); input
                                             phi_mtc_offset (rad, RANGE: set or Vector.play)
 KimPublished    xm <- MuscleLength.xm       A (Modules 1-2 the authors' way; benchmark only)
@@ -46,7 +47,7 @@ from pathlib import Path
 from .errors import MechanismBuildError
 
 #: Mechanisms the package needs; all come from ``mod/``.
-MECHANISMS = ("KimCa", "KimAct", "KimForce", "MuscleLength", "HatzeExc", "HatzeMTC", "KimPublished")
+MECHANISMS = ("KimCa", "KimAct", "KimForce", "MuscleLength", "HatzeExc", "HatzeTrend", "HatzeMTC", "KimPublished")
 
 
 def mod_dir() -> Path:

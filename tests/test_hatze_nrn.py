@@ -44,3 +44,60 @@ def test_overlapping_pulses_and_unknown_model_are_refused(ct09):
         simulate(ct09, [100.0, 100.5], -8.0, 300.0, excitation="hatze")
     with pytest.raises(InputError, match="excitation must be"):
         simulate(ct09, [100.0], -8.0, 300.0, excitation="huxley")
+
+
+def test_trend_mechanism_matches_exact_solution_and_drives_module_3(ct09):
+    """HatzeTrend (eq 10) against its closed-form solution; its A feeds KimForce like any excitation."""
+    from neuron import h
+
+    from neuromuscle import MuscleUnit
+    from neuromuscle.hatze.excitation import active_state, trend_gamma
+    from neuromuscle.unit import _NeuronRun
+
+    th = load_theta()
+    with MuscleUnit(ct09, excitation="hatze", name="trend") as unit:
+        tr = h.HatzeTrend(unit._sec(0.5))
+        tr.m, tr.c, tr.theta5 = 7.94, 3.91e-14, th.theta5
+        unit.force._ref_act = tr._ref_A
+        unit.length.xm = -8.0
+        nu = h.Vector([0.0, 0.0, 0.5, 0.5, 0.0, 0.0])
+        tv = h.Vector([0.0, 100.0, 100.0, 1100.0, 1100.0, 1600.0])
+        nu.play(tr._ref_nu, tv, 1)
+        g, f = h.Vector().record(tr._ref_g, 1.0), h.Vector().record(unit.force._ref_F, 1.0)
+        with _NeuronRun("fixed", 0.025, 0, 0) as hh:
+            hh.finitialize()
+            hh.continuerun(1600.0)
+        nu.play_remove()
+        g, f = np.array(g), np.array(f)
+        del tr
+    t_s = np.arange(g.size) * 1e-3
+    on = (t_s >= 0.1)
+    exact = np.where(on, trend_gamma(np.maximum(t_s - 0.1, 0.0), 7.94, 3.91e-14, nu=0.5, train_end_s=1.0), 0.0)
+    assert np.max(np.abs(g - exact)) < 2e-3 * exact.max()
+    q_end = active_state(exact[1099], 1.0, th.theta5)
+    assert f[1099] == pytest.approx(ct09["P0"] * q_end, rel=0.02)  # isometric plateau = P0 g(opt) q
+
+
+def test_kim_activation_drives_the_angular_complex(ct09):
+    """Kim's Modules 1-2 in front of Hatze's muscle-tendon complex: a 40 Hz train gives a fused moment."""
+    from neuron import h
+
+    from neuromuscle import MuscleUnit
+    from neuromuscle.unit import _NeuronRun
+
+    with MuscleUnit(ct09, name="kim_mtc") as unit:
+        unit.length.xm = -8.0
+        mtc = h.HatzeMTC(unit._sec(0.5))
+        mtc._ref_act = unit.act._ref_A
+        unit.add_spike_times(np.arange(100.0, 600.0, 25.0))
+        unit.prepare()
+        m = h.Vector().record(mtc._ref_M, 1.0)
+        a = h.Vector().record(unit.act._ref_A, 1.0)
+        with _NeuronRun("fixed", 0.025, 0, 0) as hh:
+            hh.finitialize()
+            hh.continuerun(900.0)
+        m, a = np.array(m), np.array(a)
+        mmax = mtc.Mmax
+        del mtc
+    assert 0.8 * mmax < m[550] <= 1.05 * mmax * a[550] + 1e-6
+    assert m[850] < 0.2 * m[550]  # relaxes after the train
