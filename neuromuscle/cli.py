@@ -166,7 +166,7 @@ def build_parser() -> argparse.ArgumentParser:
     bu.add_argument("--params", default="CT09")
     bu.add_argument("--duration-ms", type=float, default=10_000.0)
     bu.add_argument("--repeats", type=int, default=3)
-    bu.add_argument("--pool-units", type=int, default=20, help="units sharing one section in the pool figure")
+    bu.add_argument("--pool-units", type=int, default=10, help="units sharing one section in the pool figure")
     bu.add_argument("--json", action="store_true")
     bu.set_defaults(func=cmd_bench)
     bf = bsub.add_parser("fit", help="Module 2 calibration on the standard synthetic set, serial and 2 workers")
