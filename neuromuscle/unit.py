@@ -62,13 +62,18 @@ class MuscleUnit:
     length_source: a MuscleLength point process to share (a pool's muscle); a private one is made if None.
     section: NEURON section that hosts the point processes; a private one-segment section if None.
     excitation: "kim" (Modules 1-2: KimCa -> KimAct) or "hatze" (HatzeExc, seed 000 eqs 6-9, with
-        ``hatze_theta`` an ``neuromuscle.hatze.parameters.ExcitationTheta``, Table 2 if None); either one's A
-        drives Module 3 (KimForce) through the same POINTER.  Spikes go to ``self.receiver``.
+        ``hatze_theta`` an ``neuromuscle.hatze.parameters.ExcitationTheta``, Table 2 if None).  Spikes go to
+        ``self.receiver``.
+    contraction: "kim" (Module 3, KimForce: force F in N, length from the MuscleLength in mm) or "hatze"
+        (HatzeMTC of subject ``hatze_subject``, Table 1: moment M in N m, MTC angle offset
+        ``force.phi_mtc_offset`` in rad).  Either excitation's A drives either contraction through the same
+        POINTER; ``output_ref`` points at the output.  ``simulate`` uses contraction "kim".
     """
 
     def __init__(self, params: ParameterSet, *, length_compensation: bool = True,
                  movement_compensation: bool = False, length_source: Any = None, section: Any = None,
-                 name: str = "unit", excitation: str = "kim", hatze_theta: Any = None) -> None:
+                 name: str = "unit", excitation: str = "kim", hatze_theta: Any = None,
+                 contraction: str = "kim", hatze_subject: str = "3") -> None:
         if not isinstance(params, ParameterSet):
             raise InputError(f"{name}: params must be a ParameterSet (see load_parameters), got {type(params)}")
         load_mechanisms()
@@ -86,11 +91,19 @@ class MuscleUnit:
         else:
             raise InputError(f"{name}: excitation must be 'kim' or 'hatze', got {excitation!r}")
         self.excitation = excitation
-        self.force = h.KimForce(seg)
-        for n in _M3:
-            setattr(self.force, n, params[n])
+        if contraction == "kim":
+            self.force = h.KimForce(seg)
+            for n in _M3:
+                setattr(self.force, n, params[n])
+            self.force._ref_xm = self.length._ref_xm
+            self.output = "F"  # N
+        elif contraction == "hatze":
+            self._build_hatze_mtc(seg, hatze_subject)
+            self.output = "M"  # N m
+        else:
+            raise InputError(f"{name}: contraction must be 'kim' or 'hatze', got {contraction!r}")
+        self.contraction = contraction
         self.force._ref_act = self.act._ref_A
-        self.force._ref_xm = self.length._ref_xm
         self._netcons: list[Any] = []
         self._spike_times: list[np.ndarray] = []
 
@@ -123,6 +136,23 @@ class MuscleUnit:
         for n in ("theta1", "theta2", "theta3", "theta4", "theta5"):
             setattr(self.act, n, float(getattr(theta, n)))
         self.receiver = self.act
+
+    def _build_hatze_mtc(self, seg: Any, subject: str) -> None:
+        from neuron import h
+
+        from .hatze.parameters import load_subject
+
+        sub = load_subject(subject)
+        self.force = h.HatzeMTC(seg)  # angular MTC: moment M (N m); input phi_mtc_offset (rad), isometric 0
+        for attr, value in (("k_see", sub.k_see), ("phi_ce_opt", sub.phi_ce_opt), ("Mmax", sub.m_max),
+                            ("a_rel", sub.a_rel), ("b_rel", sub.b_rel), ("w", sub.w), ("k_pee", sub.k_pee),
+                            ("phi_pee0_rel", sub.phi_pee0_rel)):
+            setattr(self.force, attr, float(value))
+
+    @property
+    def output_ref(self) -> Any:
+        """Reference to the contraction model's output: KimForce.F (N) or HatzeMTC.M (N m)."""
+        return getattr(self.force, f"_ref_{self.output}")
 
     # -- spikes -------------------------------------------------------------------------------------------
     def connect_from(self, source: Any, *, threshold_mV: float = -10.0, delay_ms: float = 1.0,

@@ -101,3 +101,28 @@ def test_kim_activation_drives_the_angular_complex(ct09):
         del mtc
     assert 0.8 * mmax < m[550] <= 1.05 * mmax * a[550] + 1e-6
     assert m[850] < 0.2 * m[550]  # relaxes after the train
+
+
+@pytest.mark.parametrize("excitation", ["kim", "hatze"])
+def test_models_are_picked_by_name(ct09, excitation):
+    """Any excitation in front of any contraction model, by name; the output reference follows the model."""
+    from neuron import h
+
+    from neuromuscle import MuscleUnit
+    from neuromuscle.unit import _NeuronRun
+
+    peaks = {}
+    for contraction in ("kim", "hatze"):
+        with MuscleUnit(ct09, excitation=excitation, contraction=contraction, name="pick") as unit:
+            unit.length.xm = -8.0
+            unit.add_spike_times(np.arange(100.0, 400.0, 50.0))
+            unit.prepare()
+            out = h.Vector().record(unit.output_ref, 1.0)
+            with _NeuronRun("fixed", 0.025, 0, 0) as hh:
+                hh.finitialize()
+                hh.continuerun(500.0)
+            peaks[contraction] = (unit.output, float(np.array(out).max()))
+    assert peaks["kim"][0] == "F" and peaks["hatze"][0] == "M"
+    assert peaks["kim"][1] > 1.0 and peaks["hatze"][1] > 1.0
+    with pytest.raises(InputError, match="contraction must be"):
+        MuscleUnit(ct09, contraction="huxley")
