@@ -272,6 +272,7 @@ class _NeuronRun:
             self.cv.active(1)
             self.cv.atol(self.atol)
             self.cv.rtol(self.rtol)
+            _atol_scales()
         else:
             self.cv.active(0)
             h.dt = self.dt_ms
@@ -301,6 +302,7 @@ def _atol_scales() -> None:
     c.atolscale("KimForce.xce", 1e-6)
     for st, scale in (("b", 1e-12), ("vb", 1e-9), ("g", 1e-18), ("vg", 1e-15)):
         c.atolscale(f"HatzeExc.{st}", scale)
+    c.atolscale("HatzeMTC.phi_ce", 1e-3)
 
 
 def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTrace | float,
@@ -368,8 +370,6 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
     for s in states:
         recs[s].record(getattr(unit.ca, f"_ref_{s}"), record_dt_ms)
     with _NeuronRun(method, dt_ms, atol, rtol) as hh:
-        if method == "cvode":
-            _atol_scales()
         hh.finitialize()
         if method == "cvode" and trace.onset_ms is not None and movcomp:
             hh.CVode().event(trace.onset_ms)

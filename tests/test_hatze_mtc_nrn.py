@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from neuromuscle import load_mechanisms
+from neuromuscle.unit import _NeuronRun
 from neuromuscle.hatze.contraction import (equilibrium_phi_ce, moment_rise_time_s, release_profile,
                                            see_extension_at_test, simulate_release,
                                            simulate_active_state_drive, simulate_isometric)
@@ -28,37 +29,9 @@ def h():
     return hh
 
 
-class _Run:
-    """Set the integrator for one run and restore NEURON's global state afterwards."""
-
-    def __init__(self, h, method, dt_ms=0.025, atol=1e-6, rtol=1e-8):
-        self.h, self.method, self.dt_ms, self.atol, self.rtol = h, method, dt_ms, atol, rtol
-
-    def __enter__(self):
-        h = self.h
-        self.cv = h.CVode()
-        self.saved = (h.dt, h.steps_per_ms, self.cv.active(), self.cv.atol(), self.cv.rtol(), h.secondorder)
-        h.secondorder = 0
-        if self.method == "cvode":
-            self.cv.active(1)
-            self.cv.atol(self.atol)
-            self.cv.rtol(self.rtol)
-            for st, scale in (("b", 1e-12), ("vb", 1e-9), ("g", 1e-18), ("vg", 1e-15)):
-                self.cv.atolscale(f"HatzeExc.{st}", scale)
-            self.cv.atolscale("HatzeMTC.phi_ce", 1e-3)
-        else:
-            self.cv.active(0)
-            h.dt = self.dt_ms
-            h.steps_per_ms = 1.0 / self.dt_ms
-        return h
-
-    def __exit__(self, *exc):
-        h = self.h
-        dt, spm, active, atol, rtol, so = self.saved
-        self.cv.active(active)
-        self.cv.atol(atol)
-        self.cv.rtol(rtol)
-        h.dt, h.steps_per_ms, h.secondorder = dt, spm, so
+def _Run(h, method, dt_ms=0.025, atol=1e-6, rtol=1e-8):
+    """The package's run context (sets and restores NEURON's integrator; CVODE tolerances per state)."""
+    return _NeuronRun(method, dt_ms, atol, rtol)
 
 
 def _set_subject(mtc, subject):
