@@ -14,7 +14,8 @@ noverlap and ignored (the caller refuses such trains before running).
 
 Numerics.  Fixed step: the linear system is advanced by the trapezoidal rule (second order, A-stable) with the
 exact half-sine at the step's midpoint, the two 2x2 blocks solved in closed form (gamma's block driven by the
-trapezoidal mean of beta).  CVODE: the DERIVATIVE block gives the exact right-hand side (a - b*y form, see
+trapezoidal mean of beta); the step's increments reach the states through METHOD euler (no STATE is assigned
+inside DERIVATIVE).  CVODE: the DERIVATIVE block gives the exact right-hand side (a - b*y form, see
 KimCa); pulse starts and ends are events.
 ENDCOMMENT
 
@@ -39,12 +40,18 @@ PARAMETER {
 }
 
 ASSIGNED {
+    dt (ms)
     A (1)
     alpha (1)
     on (1)
     t0 (ms)
     noverlap (1)
-    a2 a4 c2 c4
+    ab (s2/ms)
+    ag (s4/ms)
+    a2 (s/ms)
+    a4 (s3/ms)
+    c2 (/ms)
+    c4 (/ms)
 }
 
 STATE {
@@ -72,18 +79,20 @@ BREAKPOINT {
 DERIVATIVE states {
     if (cvode_on()) {
         alpha = drive(t)
-        a2 = (alpha - theta2*b)/1000
-        c2 = theta1/1000
-        a4 = (b - theta4*g)/1000
-        c4 = theta3/1000
+        ab = vb/(1000)
+        a2 = (alpha - theta2*b)/(1000)
+        c2 = theta1/(1000)
+        ag = vg/(1000)
+        a4 = (b - theta4*g)/(1000)
+        c4 = theta3/(1000)
     } else {
         trapezoid_step(dt)
         c2 = 0
         c4 = 0
     }
-    b' = vb/1000
+    b' = ab
     vb' = a2 - c2*vb
-    g' = vg/1000
+    g' = ag
     vg' = a4 - c4*vg
     active_state()
 }
@@ -91,58 +100,43 @@ DERIVATIVE states {
 FUNCTION drive(tt (ms)) {
     : eq 8: the half-sine of the current pulse (dimensionless)
     if (on && tt >= t0 && tt < t0 + 1) {
-        drive = sin(3.141592653589793*(tt - t0))
+        drive = sin(3.141592653589793*(tt - t0)/(1 (ms)))
     } else {
         drive = 0
     }
 }
 
 PROCEDURE trapezoid_step(h (ms)) {
-    : trapezoidal rule for z' = M z + input on the two 2x2 blocks; derivatives per ms.  Writes the increments
-    : (as rates per ms) into the state equations' a-terms: b and g advance through b' = vb/1000 with vb the
-    : average of old and new, so a2, a4 are set to make euler land exactly on the trapezoidal solution.
-    LOCAL k, u, r1, r2, det, bn, vbn, gn, vgn, bm
-    k = h/2
-    alpha = drive(t + k)
-    : beta block: b' = vb/1000, vb' = (alpha - theta1 vb - theta2 b)/1000
-    u = alpha/1000
-    r1 = b + k*vb/1000
-    r2 = vb - k*(theta2*b + theta1*vb)/1000 + h*u
-    det = 1 + k*theta1/1000 + k*k*theta2/1e6
-    bn = (r1*(1 + k*theta1/1000) + k/1000*r2)/det
-    vbn = (r2 - k*theta2/1000*r1)/det
+    : trapezoidal rule for z' = M z + input on the two 2x2 blocks, in the seed's seconds (hs = h in s).  The
+    : new values are handed to METHOD euler as increments per ms (ab, a2, ag, a4): no state is assigned here.
+    LOCAL hs, k, u, r1, r2, det, bn, vbn, gn, vgn, bm
+    hs = (0.001)*h
+    k = hs/2
+    alpha = drive(t + h/2)
+    : beta block: b' = vb, vb' = alpha - theta1 vb - theta2 b (per s)
+    u = alpha
+    r1 = b + k*vb
+    r2 = vb - k*(theta2*b + theta1*vb) + hs*u
+    det = 1 + k*theta1 + k*k*theta2
+    bn = (r1*(1 + k*theta1) + k*r2)/det
+    vbn = (r2 - k*theta2*r1)/det
     : gamma block driven by the trapezoidal mean of beta
     bm = (b + bn)/2
-    u = bm/1000
-    r1 = g + k*vg/1000
-    r2 = vg - k*(theta4*g + theta3*vg)/1000 + h*u
-    det = 1 + k*theta3/1000 + k*k*theta4/1e6
-    gn = (r1*(1 + k*theta3/1000) + k/1000*r2)/det
-    vgn = (r2 - k*theta4/1000*r1)/det
-    : euler applies b += h*vb/1000 with the OLD vb, so pre-set the increments through a2/a4 and adjust b, g
-    : by their exact trapezoidal increments here (their own euler increments are cancelled below)
-    b = bn - h*vb/1000
-    g = gn - h*vg/1000
+    u = bm
+    r1 = g + k*vg
+    r2 = vg - k*(theta4*g + theta3*vg) + hs*u
+    det = 1 + k*theta3 + k*k*theta4
+    gn = (r1*(1 + k*theta3) + k*r2)/det
+    vgn = (r2 - k*theta4*r1)/det
+    ab = (bn - b)/h
     a2 = (vbn - vb)/h
+    ag = (gn - g)/h
     a4 = (vgn - vg)/h
 }
 
-PROCEDURE active_state() {
-    LOCAL m1, m2, rs, x
-    m1 = -rho2 + sqrt(rho2*rho2 - 1)
-    m2 = -rho2 - sqrt(rho2*rho2 - 1)
-    rs = (pow(xicheck, s) - 1)/(pow(xicheck/xi, s) - 1)
-    x = rs*theta5*g
-    A = 1 - (1 - q0)/(m1 - m2)*(m1*exp(m2*x) - m2*exp(m1*x))
-}
+INCLUDE "hatze_active_state.inc"
 
-FUNCTION cvode_on() {
-    : 1 while NEURON integrates with CVODE
-VERBATIM
-    extern int cvode_active_;
-    _lcvode_on = (double) cvode_active_;
-ENDVERBATIM
-}
+INCLUDE "cvode_on.inc"
 
 NET_RECEIVE(w) {
     if (flag == 0) {

@@ -26,8 +26,9 @@ Coupling: POINTER act -> active state q (1): HatzeExc.A (eq 9) or Kim's KimAct.A
           and point POINTER xi_exc at HatzeExc.xi; HatzeMTC then writes xi = phi_ce/phi_ce_opt there in INITIAL
           and after every state evaluation.  HatzeExc (registered before HatzeMTC) therefore uses xi from the
           previous evaluation: a lag of one step (fixed) or one right-hand side evaluation (CVODE).  With
-          xi_feedback = 0 (default) xi_exc is never touched and need not be set.
-Outputs:  M (N m, MTC = SEE moment), phi_ce (rad, state), omega_ce (rad/s), F0 (N m), e_test (rad),
+          xi_feedback = 0 (default) xi_exc is never written; unused, it points at this mechanism's own RANGE
+          xi_sink (neuromuscle.model.hatze does this), never left NULL.
+Outputs:  M (Nm, MTC = SEE moment), phi_ce (rad, state), omega_ce (rad/s), F0 (Nm), e_test (rad),
           nbad (count of evaluations with M <= -a, where Hill's equation is singular; the denominator is then
           held at 1e-6 a -- only possible with a PEE pulling the CE, never with k_pee = 0).
 INITIAL:  the CE starts at isometric equilibrium M_see - M_pee = q M_iso(phi_ce) for the initial act and
@@ -42,41 +43,47 @@ NEURON {
     POINT_PROCESS HatzeMTC
     THREADSAFE
     RANGE k_see, phi_ce_opt, Mmax, a_rel, b_rel, w, k_pee, phi_pee0_rel, phi_mtc_offset, xi_feedback
-    RANGE M, omega_ce, F0, e_test, nbad, noeq
+    RANGE M, omega_ce, F0, e_test, nbad, noeq, xi_sink
     POINTER act, xi_exc
+}
+
+UNITS {
+    (Nm) = (newton meter)
 }
 
 PARAMETER {
     : Table 1, subject 3
-    k_see = 377 (N m/rad2)
-    phi_ce_opt = 1.2 (rad)
-    Mmax = 52 (N m)
+    k_see = 377 (Nm)
+    phi_ce_opt = 1.2 (1)
+    Mmax = 52 (Nm)
     a_rel = 0.21 (1)
     b_rel = 1.55 (/s)
     w = 0.56 (1)
-    k_pee = 0 (N m/rad2)
+    k_pee = 0 (Nm)
     phi_pee0_rel = 1 (1)
-    phi_mtc_offset = 0 (rad)
+    phi_mtc_offset = 0 (1)
     xi_feedback = 0 (1)
+    xi_sink = 1 (1)
 }
 
 ASSIGNED {
+    dt (ms)
     act (1)
     xi_exc (1)
-    M (N m)
-    omega_ce (rad/s)
-    F0 (N m)
-    e_test (rad)
+    M (Nm)
+    omega_ce (/s)
+    F0 (Nm)
+    e_test (1)
     nbad (1)
     noeq (1)
-    fr (rad/ms)
+    fr (/ms)
     jac (/ms)
-    aa (rad/ms)
+    aa (/ms)
     bb (/ms)
 }
 
 STATE {
-    phi_ce (rad)
+    phi_ce (1)
 }
 
 INITIAL {
@@ -93,19 +100,18 @@ INITIAL {
         noeq = 1
         phi_ce = top
     } else {
-        FROM i = 0 TO 200 {
-            mid = 0.5*(lo + hi)
-            if (mid <= lo || mid >= hi) {
-                VERBATIM
-                break;
-                ENDVERBATIM
-            }
+        i = 0
+        mid = 0.5*(lo + hi)
+        WHILE (i <= 200 && mid > lo && mid < hi) {
+            : bisection until the interval cannot shrink (machine precision)
             g = eqres(mid, top)
             if (g > 0) {
                 lo = mid
             } else {
                 hi = mid
             }
+            mid = 0.5*(lo + hi)
+            i = i + 1
         }
         phi_ce = 0.5*(lo + hi)
     }
@@ -136,7 +142,7 @@ AFTER SOLVE {
     feed_xi()
 }
 
-FUNCTION pee(phi (rad)) (N m) {
+FUNCTION pee(phi (1)) (Nm) {
     LOCAL d
     d = phi - phi_pee0_rel*phi_ce_opt
     if (d > 0) {
@@ -146,7 +152,7 @@ FUNCTION pee(phi (rad)) (N m) {
     }
 }
 
-FUNCTION miso(phi (rad)) (N m) {
+FUNCTION miso(phi (1)) (Nm) {
     LOCAL x
     x = (phi/phi_ce_opt - 1)/w
     if (x < 1 && x > -1) {
@@ -156,7 +162,7 @@ FUNCTION miso(phi (rad)) (N m) {
     }
 }
 
-FUNCTION eqres(phi (rad), top (rad)) (N m) {
+FUNCTION eqres(phi (1), top (1)) (Nm) {
     : isometric equilibrium residual M_see - M_pee - q M_iso at CE angle phi (SEE slack at phi = top)
     LOCAL e, q
     e = top - phi
@@ -172,14 +178,14 @@ FUNCTION eqres(phi (rad), top (rad)) (N m) {
 }
 
 PROCEDURE feed_xi() {
-    if (xi_feedback) {
+    if (xi_feedback && nrn_pointing(xi_exc)) {
         xi_exc = phi_ce/phi_ce_opt
     }
 }
 
-PROCEDURE rhs(phi (rad)) {
+PROCEDURE rhs(phi (1)) {
     : sets M, F0, omega_ce (rad/s), fr = d phi_ce/dt (rad/ms) and jac = d fr/d phi_ce (/ms)
-    LOCAL e, msee, dmsee, mpee, dmpee, d, mce, dm, x, mi, dmi, q, df0, a, b, om, om_m, om_f0, den, fa, ce, rc, k1, k2, v, dvdd
+    LOCAL e, msee, dmsee, mpee, dmpee, d, mce, dm, x, mi, dmi, q, df0, a, b, om, om_m, om_f0, den, fa, ce, rc, k1, k2, vecc, dvdd
     a = a_rel*Mmax
     b = b_rel*phi_ce_opt
     e = phi_mtc_offset + e_test + phi_ce_opt - phi
@@ -187,16 +193,17 @@ PROCEDURE rhs(phi (rad)) {
         msee = k_see*e*e
         dmsee = 2*k_see*e
     } else {
-        msee = 0
-        dmsee = 0
+        : zero in the units of the other branch (modlunit infers a LOCAL's unit from its last assignment)
+        msee = 0*k_see
+        dmsee = 0*k_see
     }
     d = phi - phi_pee0_rel*phi_ce_opt
     if (d > 0) {
         mpee = k_pee*d*d
         dmpee = 2*k_pee*d
     } else {
-        mpee = 0
-        dmpee = 0
+        mpee = 0*k_pee
+        dmpee = 0*k_pee
     }
     M = msee
     mce = msee - mpee
@@ -206,14 +213,14 @@ PROCEDURE rhs(phi (rad)) {
         mi = Mmax*(1 - x*x)
         dmi = -2*Mmax*x/(w*phi_ce_opt)
     } else {
-        mi = 0
-        dmi = 0
+        mi = 0*Mmax
+        dmi = 0*Mmax
     }
     q = act
     F0 = q*mi
     if (F0 < 0) {
         F0 = 0
-        df0 = 0
+        df0 = 0*Mmax
     } else {
         df0 = q*dmi
     }
@@ -235,29 +242,23 @@ PROCEDURE rhs(phi (rad)) {
         rc = 0.8
         if (2*d < rc*F0) {
             den = F0 - 2*d
-            v = ce*d*F0/den
+            vecc = ce*d*F0/den
             dvdd = ce*F0*F0/(den*den)
-            : d v/d F0 at fixed M = (d v/d F0 at fixed D) - dvdd
+            : d vecc/d F0 at fixed M = (d vecc/d F0 at fixed D) - dvdd
             om_f0 = -((-ce/fa)*d*F0/den - 2*ce*d*d/(den*den) - dvdd)
         } else {
             k1 = 1/(1 - rc) - 1/((1 - rc)*(1 - rc))
             k2 = 1/((1 - rc)*(1 - rc))
-            v = ce*(0.5*F0*rc*k1 + d*k2)
+            vecc = ce*(0.5*F0*rc*k1 + d*k2)
             dvdd = ce*k2
             om_f0 = -((-ce/fa)*(0.5*F0*rc*k1 + d*k2) + ce*0.5*rc*k1 - dvdd)
         }
-        om = -v
+        om = -vecc
         om_m = -dvdd
     }
     omega_ce = om
-    fr = -om/1000
-    jac = -(om_m*dm + om_f0*df0)/1000
+    fr = -om/(1000)
+    jac = -(om_m*dm + om_f0*df0)/(1000)
 }
 
-FUNCTION cvode_on() {
-    : 1 while NEURON integrates with CVODE
-VERBATIM
-    extern int cvode_active_;
-    _lcvode_on = (double) cvode_active_;
-ENDVERBATIM
-}
+INCLUDE "cvode_on.inc"

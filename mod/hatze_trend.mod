@@ -45,15 +45,8 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
-    g' = m*(c*nu - g)/1000
+    g' = m*(c*nu - g)/(1000)
     active_state()
 }
 
-PROCEDURE active_state() {
-    LOCAL m1, m2, rs, x
-    m1 = -rho2 + sqrt(rho2*rho2 - 1)
-    m2 = -rho2 - sqrt(rho2*rho2 - 1)
-    rs = (pow(xicheck, s) - 1)/(pow(xicheck/xi, s) - 1)
-    x = rs*theta5*g
-    A = 1 - (1 - q0)/(m1 - m2)*(m1*exp(m2*x) - m2*exp(m1*x))
-}
+INCLUDE "hatze_active_state.inc"

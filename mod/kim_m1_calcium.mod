@@ -8,10 +8,16 @@ Units: time ms, concentration M, rates K1,K3,K5i (/M/ms), K2,K4,K6i,Rmax (/ms), 
 Release (eq 3) uses two recursive kernels, S2 = sum exp(-(t-ti)/tau2) and S12 = sum exp(-(t-ti)(1/tau1+1/tau2)),
 both jumping by 1 at each spike (NET_RECEIVE), so R = [CaSR] Rmax (S2 - S12) costs the same whatever the spike count.
 
-Coupling (documented interface, see neuromuscle/mechanisms.py):
+Coupling (documented interface, see neuromuscle/model/kim.py):
   POINTER atil  -> activation state Atil of the activation mechanism (KimAct), dimensionless
   POINTER xm    -> muscle length Xm (mm) held by a MuscleLength point process
-Exposes RANGE CaSPT (M) and T0 (M) for the activation mechanism.
+  POINTER release_gain, uptake_gain -> modulation ports (1): R is multiplied by release_gain and the pump U by
+                   uptake_gain.  An extension points them at its own RANGE output; unused, the Python wiring points
+                   them at this mechanism's RANGE unity (= 1), x*1 being exact (off is bit-identical); left unset
+                   (hoc), they count as 1 (nrn_pointing).
+Exposes RANGE CaSPT (M), and the parameters shared with Module 2 (T0 (M), phi1, phi2 (eq 18), xopt (mm)), which
+KimAct reads through POINTERs: they live in this mechanism only.
+Spikes: NET_RECEIVE with weight w (1 for one spike): both release kernels jump by w.
 
 Numerics.  Fixed step: one linearly implicit (Rosenbrock-Euler) step of the five coupled Ca states with the
 exact analytic Jacobian, solved by eliminating CaSRCS, CaSPB and CaSPT into a 2x2 system; the kernels decay
@@ -26,12 +32,12 @@ NEURON {
     THREADSAFE
     RANGE K1, K2, K3, K4, K5i, K6i, K, Rmax, Umax, tau1, tau2, CS0, B0, T0, CaSR0
     RANGE phi1, phi2, phi3, phi4, xopt, lencomp
-    RANGE R, U, K5, K6, phi, nspike
-    POINTER atil, xm
+    RANGE R, U, K5, K6, phi, nspike, unity
+    POINTER atil, xm, release_gain, uptake_gain
 }
 
 UNITS {
-    (mM) = (milli/liter)
+    (M) = (1/liter)
 }
 
 PARAMETER {
@@ -56,19 +62,25 @@ PARAMETER {
     phi4 = 1.08 (1)
     xopt = -8 (mm)
     lencomp = 1 (1)
+    unity = 1 (1)
 }
 
 ASSIGNED {
+    dt (ms)
     atil (1)
     xm (mm)
+    release_gain (1)
+    uptake_gain (1)
     R (M/ms)
     U (M/ms)
     K5 (/M/ms)
     K6 (/ms)
     phi (1)
     nspike (1)
-    a1 a2 a3 a4 a5 a6 a7
-    b1 b2 b3 b4 b5 b6 b7
+    a1 (M/ms) a2 (M/ms) a3 (M/ms) a4 (M/ms) a5 (M/ms) a6 (/ms) a7 (/ms)
+    b1 (/ms) b2 (/ms) b3 (/ms) b4 (/ms) b5 (/ms) b6 (/ms) b7 (/ms)
+    rg (1)
+    ug (1)
     hc (ms)
     e2c (1)
     e12c (1)
@@ -134,6 +146,17 @@ PROCEDURE rates_coeffs() {
         K5 = K5i
     }
     K6 = K6i/(1 + 5*atil)
+    : modulation ports: a hoc user who leaves one unset gets the neutral 1 (nrn_pointing), never a crash
+    if (nrn_pointing(release_gain)) {
+        rg = release_gain
+    } else {
+        rg = 1
+    }
+    if (nrn_pointing(uptake_gain)) {
+        ug = uptake_gain
+    } else {
+        ug = 1
+    }
 }
 
 FUNCTION pump(c (M)) (M/ms) {
@@ -165,9 +188,9 @@ PROCEDURE exact_rhs() {
     LOCAL r, tau12
     rates_coeffs()
     tau12 = 1/(1/tau1 + 1/tau2)
-    r = Rmax*(S2 - S12)
+    r = rg*Rmax*(S2 - S12)
     R = CaSR*r
-    U = pump(CaSP)
+    U = ug*pump(CaSP)
     : eq 1, linear in CaSR
     b1 = K1*(CS0 - CaSRCS) + r
     a1 = K2*CaSRCS + U
@@ -205,12 +228,12 @@ PROCEDURE implicit_step(h (ms)) {
     e2 = e2c
     e12 = e12c
     : exact mean of Rmax (S2 - S12) over the step
-    r = Rmax*(S2*g2c - S12*g12c)
+    r = rg*Rmax*(S2*g2c - S12*g12c)
     y1 = CaSR
     y3 = CaSP
     R = y1*r
-    U = pump(y3)
-    Up = dpump(y3)
+    U = ug*pump(y3)
+    Up = ug*dpump(y3)
     f1 = -K1*y1*(CS0 - CaSRCS) + K2*CaSRCS - R + U
     f2 = K1*y1*(CS0 - CaSRCS) - K2*CaSRCS
     f3 = -K5*y3*(T0 - CaSPT) + K6*CaSPT - K3*y3*(B0 - CaSPB) + K4*CaSPB + R - U
@@ -269,17 +292,11 @@ PROCEDURE implicit_step(h (ms)) {
     b7 = 0
 }
 
-FUNCTION cvode_on() {
-    : 1 while NEURON integrates with CVODE (the DERIVATIVE block then supplies the exact right-hand side)
-VERBATIM
-    extern int cvode_active_;
-    _lcvode_on = (double) cvode_active_;
-ENDVERBATIM
-}
+INCLUDE "cvode_on.inc"
 
-NET_RECEIVE(w) {
-    : a spike: both release kernels jump by one (eq 3 written recursively); the weight is ignored
-    S2 = S2 + 1
-    S12 = S12 + 1
+NET_RECEIVE(w (1)) {
+    : a spike of weight w (1 for one spike): both release kernels jump by w (eq 3 written recursively)
+    S2 = S2 + w
+    S12 = S12 + w
     nspike = nspike + 1
 }

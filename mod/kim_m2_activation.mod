@@ -10,10 +10,14 @@ and, when movcomp = 1, the movement compensations eqs 19-20 on an explicit movem
     A >= 1e-3 while eq 19 is active.
 Units: C3, alpha2, alpha3 ms; gamma s/mm; Vm mm/s; Xm mm; phi1, phi3 /mm.
 
-Coupling (documented interface, see neuromuscle/mechanisms.py):
-  POINTER caspt -> [CaSPT] (M) of the calcium mechanism (KimCa); T0 (M) is this mechanism's copy of the total
-                   troponin concentration.
+Coupling (documented interface, see neuromuscle/model/kim.py):
+  POINTER caspt -> [CaSPT] (M) of the calcium mechanism (KimCa)
+  POINTER T0, phi1, phi2, xopt -> KimCa's parameters of the same names (M, /mm, 1, mm): total troponin and the
+                   eq 18 length factor below the optimum live in KimCa only, so setting one cannot make the two
+                   modules disagree.
   POINTER xm, vm -> muscle length (mm) and velocity (mm/s) of a MuscleLength point process
+  POINTER tauA_gain -> modulation port (1): tau_A is multiplied by it (an extension's RANGE output); unused, it
+                   points at this mechanism's RANGE unity (= 1), and x/1 is exact: off is bit-identical.
   RANGE A        <- read by the force mechanism (KimForce POINTER act).  Any excitation model that exposes an
                    activation A in [0, 1] can take this place in front of Module 3.
 Numerics: linear in Atil, so METHOD cnexp is exact for frozen x in fixed step; CVODE uses the same block.
@@ -22,10 +26,14 @@ ENDCOMMENT
 NEURON {
     POINT_PROCESS KimAct
     THREADSAFE
-    RANGE C1, C2, C3, C4, C5, T0, alpha, alpha1, alpha2, alpha3, beta, gamma
-    RANGE phi1, phi2, phi3, phi4, xopt, movcomp, onset, Afloor
+    RANGE C1, C2, C3, C4, C5, alpha, alpha1, alpha2, alpha3, beta, gamma
+    RANGE movcomp, onset, Afloor, unity
     RANGE A, alpha_t, Ainf, tauA, atil0
-    POINTER caspt, xm, vm
+    POINTER caspt, xm, vm, T0, phi1, phi2, xopt, tauA_gain
+}
+
+UNITS {
+    (M) = (1/liter)
 }
 
 PARAMETER {
@@ -34,26 +42,26 @@ PARAMETER {
     C3 = 61.206 (ms)
     C4 = -13.116 (1)
     C5 = 5.095 (1)
-    T0 = 0.00007 (M)
     alpha = 2 (1)
     alpha1 = 4.77 (1)
     alpha2 = 400 (ms)
     alpha3 = 160 (ms)
     beta = 0.47 (1)
     gamma = 0.001 (s/mm)
-    phi1 = 0.03 (/mm)
-    phi2 = 1.23 (1)
-    phi3 = 0.01 (/mm)
-    phi4 = 1.08 (1)
-    xopt = -8 (mm)
     movcomp = 0 (1)
     onset = 1e9 (ms)
     Afloor = 0.001 (1)
     atil0 = 0 (1)
+    unity = 1 (1)
 }
 
 ASSIGNED {
     caspt (M)
+    T0 (M)
+    phi1 (/mm)
+    phi2 (1)
+    xopt (mm)
+    tauA_gain (1)
     xm (mm)
     vm (mm/s)
     A (1)
@@ -88,7 +96,11 @@ PROCEDURE rates() {
     x = caspt/T0
     Ainf = 1/(1 + exp(-2*(x - C1)/C2))
     ev = exp((x - C4)/(2*C5))
-    kA = 0.5*(ev + 1/ev)/C3
+    if (nrn_pointing(tauA_gain)) {
+        kA = 0.5*(ev + 1/ev)/C3/tauA_gain
+    } else {
+        kA = 0.5*(ev + 1/ev)/C3
+    }
     tauA = 1/kA
 }
 

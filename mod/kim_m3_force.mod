@@ -18,7 +18,11 @@ monotonically, with no division blow-up.  Each fixed step spent beyond Fl is cou
 report it.  With no activation (Fc = 0) a taut SE makes the CE yield at vmax and a slack one does nothing.
 
 Coupling: POINTER act -> activation A (1) of an excitation mechanism (KimAct, or any model exposing A);
-          POINTER xm   -> muscle length (mm) of a MuscleLength point process.
+          POINTER xm   -> muscle length (mm) of a MuscleLength point process;
+          POINTER force_offset -> modulation port (N): a history-dependent element in parallel with the CE-SE
+                   (force enhancement after stretch, depression after shortening) adds force_offset to the
+                   output F = Fse + force_offset; the CE-SE dynamics see Fse only.  Unused, it points at this
+                   mechanism's RANGE zero (= 0), and x + 0 is exact: off is bit-identical.
 Numerics: fixed step: one linearly implicit (Rosenbrock-Euler) step with the exact dv/dF (L-stable for the
 stiff SE-CE loop at low activation); CVODE: exact right-hand side written a - b XCE (see KimCa).
 ENDCOMMENT
@@ -26,9 +30,9 @@ ENDCOMMENT
 NEURON {
     POINT_PROCESS KimForce
     THREADSAFE
-    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, F0
-    RANGE F, Fc, vce, nasym
-    POINTER act, xm
+    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, F0, zero
+    RANGE F, Fse, Fc, vce, nasym
+    POINTER act, xm, force_offset
 }
 
 PARAMETER {
@@ -43,18 +47,24 @@ PARAMETER {
     vmax = 1e5 (mm/s)
     asym = 0.95 (1)
     F0 = 0 (N)
+    zero = 0 (N)
 }
 
 ASSIGNED {
+    dt (ms)
     act (1)
     xm (mm)
+    force_offset (N)
     F (N)
+    Fse (N)
     Fc (N)
     vce (mm/s)
     dvdF (mm/s/N)
     nasym (1)
     aa (mm/ms)
     bb (/ms)
+    dfdx (/ms)
+    kse (N/mm)
     xmc (mm)
     gc (1)
     xl (mm)
@@ -79,32 +89,31 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
-    LOCAL k, dfdx
     : the POINTERs are read once per evaluation into xl, al
     xl = xm
     al = act
     se_force()
     velocity()
-    k = P0*KSE
+    kse = P0*KSE
     : taut SE (or just taut and being taken up): F depends on xce; slack: it does not
     if (xl - xce > 0 || (xl - xce == 0 && vce < 0)) {
-        dfdx = -k*dvdF/1000
+        dfdx = -kse*dvdF/(1000)
     } else {
         dfdx = 0
     }
     if (cvode_on()) {
         bb = -dfdx
-        aa = vce/1000 + bb*xce
+        aa = vce/(1000) + bb*xce
     } else {
         : one linearly implicit step: D = h f/(1 - h df/dxce)
-        aa = (vce/1000)/(1 - dt*dfdx)
+        aa = (vce/(1000))/(1 - dt*dfdx)
         if (xl - xce < 0 && xce + dt*aa < xl) {
             : slack taken up within the step: stop where the SE becomes taut (no overshoot into the
             : stiff region by an explicit step)
             aa = (xl - xce)/dt
         }
         bb = 0
-        if (vce > 0 && F > 1e-3*P0 && F > Fc + asym*(Fc*(2 + c0/P0) - Fc)) {
+        if (vce > 0 && Fse > 1e-3*P0 && Fse > Fc + asym*(Fc*(2 + c0/P0) - Fc)) {
             nasym = nasym + 1
         }
     }
@@ -113,10 +122,18 @@ DERIVATIVE states {
 }
 
 PROCEDURE se_force() {
-    F = P0*KSE*(xl - xce)
-    if (F < 0) {
-        F = 0
+    Fse = P0*KSE*(xl - xce)
+    if (Fse < 0) {
+        Fse = 0
     }
+    : a hoc user who leaves the port unset gets no offset (nrn_pointing), never a crash
+    UNITSOFF
+    if (nrn_pointing(force_offset)) {
+        F = Fse + force_offset
+    } else {
+        F = Fse
+    }
+    UNITSON
     if (xl != xmc) {
         : force-length factor g(Xm) (eq 12), recomputed only when the length changes
         gc = exp(-((xl - g1)/g2)^2)
@@ -133,24 +150,24 @@ PROCEDURE velocity() {
     LOCAL Fa, Fl, vl, sl
     if (Fc <= 0) {
         dvdF = 0
-        if (F > 0) {
+        if (Fse > 0) {
             vce = vmax
         } else {
             vce = 0
         }
-    } else if (F <= Fc) {
-        vce = -b0*(Fc - F)/(F + a0*Fc/P0)
-        dvdF = b0*Fc*(1 + a0/P0)/((F + a0*Fc/P0)*(F + a0*Fc/P0))
+    } else if (Fse <= Fc) {
+        vce = -b0*(Fc - Fse)/(Fse + a0*Fc/P0)
+        dvdF = b0*Fc*(1 + a0/P0)/((Fse + a0*Fc/P0)*(Fse + a0*Fc/P0))
     } else {
         Fa = (2 + c0/P0)*Fc
         Fl = Fc + asym*(Fa - Fc)
-        if (F <= Fl) {
-            vce = d0*(F - Fc)/(Fa - F)
-            dvdF = d0*(Fa - Fc)/((Fa - F)*(Fa - F))
+        if (Fse <= Fl) {
+            vce = d0*(Fse - Fc)/(Fa - Fse)
+            dvdF = d0*(Fa - Fc)/((Fa - Fse)*(Fa - Fse))
         } else {
             vl = d0*(Fl - Fc)/(Fa - Fl)
             sl = d0*(Fa - Fc)/((Fa - Fl)*(Fa - Fl))
-            vce = vl + sl*(F - Fl)
+            vce = vl + sl*(Fse - Fl)
             dvdF = sl
             if (vce > vmax) {
                 vce = vmax
@@ -160,10 +177,4 @@ PROCEDURE velocity() {
     }
 }
 
-FUNCTION cvode_on() {
-    : 1 while NEURON integrates with CVODE
-VERBATIM
-    extern int cvode_active_;
-    _lcvode_on = (double) cvode_active_;
-ENDVERBATIM
-}
+INCLUDE "cvode_on.inc"

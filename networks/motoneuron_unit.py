@@ -1,17 +1,19 @@
 """A motoneuron drives its muscle unit inside NEURON: HH soma -> NetCon -> KimCa -> KimAct -> KimForce.
 
-Run: python networks/motoneuron_unit.py  (prints the spike count and peak force; writes motoneuron_unit.png)
+Run: python networks/motoneuron_unit.py [OUT.png]  (prints the spike count and peak force; writes the figure)
 Units: ms, mV, nA, mm, N.
 """
+
+import sys
 
 import numpy as np
 from neuron import h
 
-from neuromuscle import MuscleUnit, load_parameters
-from neuromuscle.unit import _NeuronRun
+from neuromuscle import MuscleUnit, Simulator, load_parameters
 
 
-def main(current_nA: float = 2.0, duration_ms: float = 1500.0) -> None:
+def main(current_nA: float = 2.0, duration_ms: float = 1500.0, png: str = "motoneuron_unit.png") -> float:
+    """Run the example; returns the peak force (N)."""
     soma = h.Section(name="motoneuron")
     soma.L = soma.diam = 50.0
     soma.insert("hh")
@@ -20,22 +22,27 @@ def main(current_nA: float = 2.0, duration_ms: float = 1500.0) -> None:
     with MuscleUnit(load_parameters("CT09"), name="mu") as unit:
         unit.length.xm = -8.0
         nc = unit.connect_from(soma(0.5)._ref_v, section=soma, threshold_mV=0.0, delay_ms=5.0)
-        t, f = h.Vector().record(h._ref_t, 0.5), h.Vector().record(unit.force._ref_F, 0.5)
-        with _NeuronRun("fixed", 0.025, 0, 0) as hh:
-            hh.finitialize(-65.0)
-            hh.continuerun(duration_ms)
-        print(f"{int(unit.ca.nspike)} spikes, peak force {np.array(f).max():.2f} N")
+        f = h.Vector().record(unit.ref("force.F"), 0.5)
+        Simulator(method="fixed", dt_ms=0.025, v_init_mV=-65.0).run(duration_ms)
+        force = np.array(f)
+        peak = float(force.max())
+        print(f"{int(unit['ca'].obj.nspike)} spikes, peak force {peak:.2f} N")
         import matplotlib
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        plt.plot(np.array(t), np.array(f))
-        plt.xlabel("time (ms)")
-        plt.ylabel("force (N)")
-        plt.savefig("motoneuron_unit.png", dpi=90)
+        fig, ax = plt.subplots(figsize=(6, 3))
+        ax.plot(np.arange(force.size) * 0.5, force, "k")
+        ax.set_xlabel("time (ms)")
+        ax.set_ylabel("force (N)")
+        ax.set_title(f"HH motoneuron, {current_nA} nA step -> CT09 muscle unit")
+        fig.tight_layout()
+        fig.savefig(png, dpi=90)
+        plt.close(fig)
         del nc
+    return peak
 
 
 if __name__ == "__main__":
-    main()
+    main(png=sys.argv[1] if len(sys.argv) > 1 else "motoneuron_unit.png")

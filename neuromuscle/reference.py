@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .length import LengthTrace
+from .protocols.lengths import LengthTrace
 from .parameters import ParameterSet
 
 _ATOL = np.array([1e-12, 1e-11, 1e-14, 1e-13, 1e-14, 1e-9, 1e-13])

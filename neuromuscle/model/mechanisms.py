@@ -6,29 +6,9 @@ step and an edited mod file is recompiled.  A hoc user can equally run ``nrnivmo
 ``nrn_load_dll("x86_64/libnrnmech.so")``; if the mechanisms are already present in NEURON (loaded that way, or
 from an ``x86_64/`` folder NEURON found in the working directory) they are used as they are.
 
-Coupling interface between the mechanisms (all point processes; see each mod file's header):
-
-==============  ==========================  ===============================================
-mechanism       reads (POINTER)             exposes (RANGE)
-==============  ==========================  ===============================================
-MuscleLength    -                           xm (mm), vm (mm/s)
-KimCa (M1)      atil <- KimAct.atil,        CaSR, CaSRCS, CaSP, CaSPB, CaSPT (M), R, U (M/ms)
-                xm <- MuscleLength.xm
-KimAct (M2)     caspt <- KimCa.CaSPT,       atil (Atil), A (activation)
-                xm, vm <- MuscleLength
-KimForce (M3)   act <- <excitation>.A,      xce (mm), F, Fc (N), vce (mm/s), nasym
-                xm <- MuscleLength.xm
-HatzeExc        -                           b, vb, g, vg (seed 000 eqs 6-7), A = q (eq 9)
-HatzeTrend      -                           g (eq 10 trend, nu played as rate/100 Hz), A = q
-HatzeMTC        act <- <excitation>.A       phi_ce (rad), M (N m), omega_ce (rad/s); input
-                                            phi_mtc_offset (rad, RANGE: set or Vector.play)
-KimPublished    xm <- MuscleLength.xm       A (Modules 1-2 the authors' way; benchmark only)
-==============  ==========================  ===============================================
-
-Swapping excitation models: any mechanism that takes spikes by NET_RECEIVE and exposes RANGE A in [0, 1] can be
-set in front of Module 3 with ``setpointer force.act, exc.A`` (``MuscleUnit(excitation="hatze")`` does this).
-
-Spikes arrive at KimCa (or another excitation mechanism) through NET_RECEIVE, so any NetCon source works.
+What each mechanism reads and exposes is declared by its component (``neuromuscle.model.kim``, ``.hatze``,
+``.length``, ``.extensions``); the required set below is derived from them.  ``bench_*.mod`` mechanisms are
+compiled too (so ``nrnivmodl mod`` gives hoc users everything) but are not required.
 """
 
 from __future__ import annotations
@@ -44,27 +24,33 @@ import tempfile
 from importlib import resources
 from pathlib import Path
 
-from .errors import MechanismBuildError
+from ..errors import MechanismBuildError
 
-#: Mechanisms the package needs; all come from ``mod/``.
-MECHANISMS = ("KimCa", "KimAct", "KimForce", "MuscleLength", "HatzeExc", "HatzeTrend", "HatzeMTC", "KimPublished")
+
+def required_mechanisms() -> tuple[str, ...]:
+    """POINT_PROCESS names the package needs: one per registered component (extensions included)."""
+    from . import extensions, hatze, kim, length
+
+    comps = (*kim.COMPONENTS, *hatze.COMPONENTS, length.MuscleLength, *extensions.registry().values())
+    return tuple(c.suffix for c in comps)
 
 
 def mod_dir() -> Path:
     """Directory holding the package's ``.mod`` files (``mod/`` in a source tree)."""
-    src = Path(__file__).resolve().parent.parent / "mod"
+    src = Path(__file__).resolve().parents[2] / "mod"
     if src.is_dir() and any(src.glob("*.mod")):
         return src
     return Path(str(resources.files("neuromuscle._mod")))
 
 
 def mod_files() -> list[Path]:
-    """The ``.mod`` files, sorted by name (the order nrnivmodl registers them in)."""
-    return sorted(mod_dir().glob("*.mod"))
+    """The ``.mod`` files and the ``.inc`` files they INCLUDE, sorted by name (nrnivmodl registers the mod
+    files in this order)."""
+    return sorted([*mod_dir().glob("*.mod"), *mod_dir().glob("*.inc")])
 
 
 def mechanism_hash() -> str:
-    """SHA-256 over the names and contents of all mod files: identifies the compiled mechanisms."""
+    """SHA-256 over the names and contents of all mod and include files: identifies the compiled mechanisms."""
     h = hashlib.sha256()
     for f in mod_files():
         h.update(f.name.encode())
@@ -120,11 +106,14 @@ def compiled_library() -> Path:
         tmp = Path(tempfile.mkdtemp(prefix=f"{key}.", dir=cache_root()))
         for f in mod_files():
             shutil.copy2(f, tmp / f.name)
+        print(f"neuromuscle: compiling {len(list(tmp.glob('*.mod')))} NMODL mechanisms with nrnivmodl into "
+              f"{target} (first use only; about a minute)...", file=sys.stderr, flush=True)
         proc = subprocess.run([_nrnivmodl(), "."], cwd=tmp, capture_output=True, text=True)
         if proc.returncode != 0 or _library_in(tmp) is None:
             raise MechanismBuildError(
                 f"nrnivmodl failed in {tmp} (exit {proc.returncode}):\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}")
         os.replace(tmp, target)
+        print("neuromuscle: mechanisms compiled.", file=sys.stderr, flush=True)
     lib = _library_in(target)
     assert lib is not None
     return lib
@@ -134,11 +123,12 @@ def load_mechanisms() -> None:
     """Make the package's mechanisms available in this process's NEURON (idempotent)."""
     from neuron import h
 
-    present = [hasattr(h, name) for name in MECHANISMS]
+    names = required_mechanisms()
+    present = [hasattr(h, name) for name in names]
     if all(present):
         return
     if any(present):
-        missing = [n for n, p in zip(MECHANISMS, present) if not p]
+        missing = [n for n, p in zip(names, present) if not p]
         raise MechanismBuildError(
             f"NEURON already holds some neuromuscle mechanisms but not {missing}: an old compiled copy "
             "(e.g. an x86_64/ folder in the working directory) is loaded; remove it or recompile mod/")

@@ -17,6 +17,10 @@ NEURON {
     POINTER xm
 }
 
+UNITS {
+    (M) = (1/liter)
+}
+
 DEFINE NMAX 10000
 
 PARAMETER {
@@ -89,6 +93,7 @@ DERIVATIVE states {
     LOCAL s, i, d, c, z, w, K5, K6, ph, x
     s = 0
     FROM i = 0 TO nspike - 1 {
+        : release kernel summed over the whole spike history (the published code's O(n) per evaluation)
         d = t - spk[i]
         if (d >= 0) {
             s = s + (1 - exp(-d/tau1))*exp(-d/tau2)
@@ -97,7 +102,7 @@ DERIVATIVE states {
     R = CaSR*Rmax*s
     c = CaSP
     if (c < 0) {
-        c = 0
+        c = 0*CaSP
     }
     z = c*c*K*K
     w = z/(1 + c*K + z)
@@ -122,7 +127,7 @@ DERIVATIVE states {
     atil' = (0.5*(1 + tanh((x - C1)/C2)) - atil)/(C3/cosh((x - C4)/(2*C5)))
 }
 
-NET_RECEIVE(w) {
+NET_RECEIVE(w (1)) {
     : a full history is flagged (overflow = 1) and the spike dropped; the caller must check overflow
     if (nspike >= NMAX) {
         overflow = 1

@@ -1,79 +1,108 @@
-"""Experimental protocols of the seed: stimulus trains (spike times, ms) and length inputs (LengthTrace, mm).
+"""Length inputs: the LengthTrace Xm(t) (mm) NEURON plays into a MuscleLength, and the seed's length protocols.
 
-Stimulus trains are sorted float64 arrays of spike times in ms.  Length protocols return
-:class:`neuromuscle.length.LengthTrace` objects sampled from 0 ms to (at least) the requested duration, with
-Xm in mm relative to the physiological maximum and velocity in mm/s (positive = lengthening).
-
-Random protocols take an explicit integer ``seed`` (fed to ``numpy.random.default_rng``): the same seed gives
-the same protocol, and the caller records it.
+Length protocols return LengthTrace objects sampled from 0 ms to (at least) the requested duration, with Xm in mm
+relative to the physiological maximum and velocity in mm/s (positive = lengthening).  Random protocols take an
+explicit integer ``seed``.
 """
 
 from __future__ import annotations
 
 import math
 from numbers import Integral
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import signal
 
-from .checks import finite_number, positive_number
-from .errors import InputError
-from .length import LengthTrace
+from ..errors import InputError
+from ..validate import finite_number, nonnegative_number, positive_number, seed_value
 
-#: Shortest inter-pulse interval (ms) of the random-interval trains.
-MIN_INTERVAL_MS = 10.0
-
-
-# ---------------------------------------------------------------------------------------------- validation
+#: Speed (mm/s) above which the muscle counts as moving, for the movement clock of eqs 19-20.
+MOVEMENT_SPEED_MM_S = 1.0
 
 
+@dataclass(frozen=True)
+class LengthTrace:
+    """Muscle length Xm (mm, relative to the physiological maximum) sampled at times t (ms).
 
-def _nonnegative(name: str, value: object) -> float:
-    x = finite_number(name, value)
-    if x < 0.0:
-        raise InputError(f"{name} must be >= 0, got {x}")
-    return x
-
-
-def _seed(value: object) -> int:
-    if isinstance(value, bool) or not isinstance(value, Integral) or value < 0:
-        raise InputError(f"seed must be a non-negative integer, got {value!r}")
-    return int(value)
-
-
-# ------------------------------------------------------------------------------------------ stimulus trains
-
-def twitch(at_ms: float = 500.0) -> np.ndarray:
-    """A single spike at ``at_ms`` (ms); the default leaves the model 500 ms to settle."""
-    return np.array([_nonnegative("at_ms", at_ms)], dtype=np.float64)
-
-
-def constant_rate(rate_hz: float, duration_ms: float, start_ms: float = 500.0) -> np.ndarray:
-    """Spikes (ms) at ``start_ms + k * 1000 / rate_hz`` for every k >= 0 with time < start_ms + duration_ms."""
-    rate = positive_number("rate_hz", rate_hz)
-    duration = positive_number("duration_ms", duration_ms)
-    start = _nonnegative("start_ms", start_ms)
-    n_periods = duration * rate / 1000.0
-    count = max(1, math.ceil(n_periods - 1e-9 * max(1.0, n_periods)))  # k < n_periods, rounding-safe
-    return start + np.arange(count, dtype=np.float64) * (1000.0 / rate)
-
-
-def random_interval(mean_interval_ms: float, duration_ms: float, seed: int,
-                    start_ms: float = 500.0) -> np.ndarray:
-    """Spikes (ms) from ``start_ms`` with inter-pulse intervals uniform on [10 ms, 2 * mean_interval_ms].
-
-    Follows the seed's wording literally, so the intervals average ``mean_interval_ms + 5`` ms.  Spikes stop
-    before ``start_ms + duration_ms``.  The k-th interval depends only on ``seed`` (not on the duration).
+    ``velocity_mm_s`` is dXm/dt (mm/s, positive = lengthening); computed by finite differences when not given.
+    ``onset_ms`` is the movement clock's zero for eqs 19-20: the first time |velocity| exceeds
+    MOVEMENT_SPEED_MM_S, or None for an isometric trace (or set explicitly).
     """
-    mean = finite_number("mean_interval_ms", mean_interval_ms)
-    if mean <= MIN_INTERVAL_MS:
-        raise InputError(f"mean_interval_ms must be > {MIN_INTERVAL_MS} ms (the shortest interval), got {mean}")
-    duration = positive_number("duration_ms", duration_ms)
-    start = _nonnegative("start_ms", start_ms)
-    rng = np.random.default_rng(_seed(seed))
-    intervals = rng.uniform(MIN_INTERVAL_MS, 2.0 * mean, size=math.ceil(duration / MIN_INTERVAL_MS) + 1)
-    times = start + np.concatenate(([0.0], np.cumsum(intervals)))
-    return times[times < start + duration].astype(np.float64)
+
+    t_ms: np.ndarray
+    xm_mm: np.ndarray
+    velocity_mm_s: np.ndarray = field(default=None)  # type: ignore[assignment]
+    onset_ms: float | None = field(default=None)
+    name: str = "length"
+
+    def __post_init__(self) -> None:
+        t = np.asarray(self.t_ms, dtype=float)
+        x = np.asarray(self.xm_mm, dtype=float)
+        if t.ndim != 1 or x.ndim != 1 or t.size != x.size:
+            raise InputError(f"{self.name}: time and length must be 1-D arrays of equal size "
+                             f"(got {t.shape} and {x.shape})")
+        if t.size < 2:
+            raise InputError(f"{self.name}: needs at least two samples")
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(x))):
+            bad = int(np.flatnonzero(~(np.isfinite(t) & np.isfinite(x)))[0])
+            raise InputError(f"{self.name}: non-finite time or length at sample {bad}")
+        if np.any(np.diff(t) <= 0):
+            bad = int(np.flatnonzero(np.diff(t) <= 0)[0]) + 1
+            raise InputError(f"{self.name}: time must be strictly increasing (sample {bad})")
+        if self.velocity_mm_s is None:
+            v = np.gradient(x, t) * 1000.0
+        else:
+            v = np.asarray(self.velocity_mm_s, dtype=float)
+            if v.shape != x.shape or not np.all(np.isfinite(v)):
+                raise InputError(f"{self.name}: velocity must be finite and match the length samples")
+        onset = self.onset_ms
+        if onset is None:
+            moving = np.flatnonzero(np.abs(v) > MOVEMENT_SPEED_MM_S)
+            onset = float(t[moving[0]]) if moving.size else None
+        object.__setattr__(self, "t_ms", t)
+        object.__setattr__(self, "xm_mm", x)
+        object.__setattr__(self, "velocity_mm_s", v)
+        object.__setattr__(self, "onset_ms", onset)
+
+    @classmethod
+    def isometric(cls, xm_mm: float, duration_ms: float) -> "LengthTrace":
+        """A constant length xm_mm (mm) from 0 to duration_ms (ms)."""
+        if not np.isfinite(xm_mm):
+            raise InputError(f"isometric length {xm_mm} mm is not finite")
+        return cls(np.array([0.0, float(duration_ms)]), np.array([float(xm_mm)] * 2),
+                   np.zeros(2), None, f"isometric {xm_mm} mm")
+
+    @property
+    def is_isometric(self) -> bool:
+        """True when the length never changes."""
+        return bool(np.all(self.xm_mm == self.xm_mm[0]))
+
+    def covers(self, duration_ms: float) -> bool:
+        """True when the trace spans [0, duration_ms]."""
+        return bool(self.t_ms[0] <= 0.0 and self.t_ms[-1] >= duration_ms)
+
+    def at(self, t_ms: np.ndarray) -> np.ndarray:
+        """Length (mm) linearly interpolated at times t_ms (ms)."""
+        return np.interp(t_ms, self.t_ms, self.xm_mm)
+
+    def velocity_at(self, t_ms: np.ndarray) -> np.ndarray:
+        """Velocity (mm/s) linearly interpolated at times t_ms (ms)."""
+        return np.interp(t_ms, self.t_ms, self.velocity_mm_s)
+
+
+def as_length_trace(length: "LengthTrace | float", duration_ms: float) -> "LengthTrace":
+    """A LengthTrace covering 0..duration_ms (ms) from a trace or a constant length (mm); InputError otherwise."""
+    if isinstance(length, LengthTrace):
+        trace = length
+    elif isinstance(length, (int, float)) and not isinstance(length, bool):
+        trace = LengthTrace.isometric(float(length), duration_ms)
+    else:
+        raise InputError(f"length must be a LengthTrace or a constant length in mm, got {type(length)}")
+    if not trace.covers(duration_ms):
+        raise InputError(f"length trace {trace.name!r} spans {trace.t_ms[0]}..{trace.t_ms[-1]} ms, shorter "
+                         f"than the run 0..{duration_ms} ms")
+    return trace
 
 
 # --------------------------------------------------------------------------------------- length protocols
@@ -104,7 +133,7 @@ def step_shortening(xm_mm: float, step_mm: float, at_ms: float, duration_ms: flo
     ``ramp_ms`` (ms) from ``at_ms`` (ms), hold to ``duration_ms`` (ms); sampled every ``sample_ms`` (ms)."""
     x0 = finite_number("xm_mm", xm_mm)
     step = positive_number("step_mm", step_mm)
-    at = _nonnegative("at_ms", at_ms)
+    at = nonnegative_number("at_ms", at_ms)
     duration = positive_number("duration_ms", duration_ms)
     ramp = positive_number("ramp_ms", ramp_ms)
     dt = positive_number("sample_ms", sample_ms)
@@ -128,7 +157,7 @@ def isokinetic_ramp(x_start_mm: float, x_end_mm: float, velocity_mm_s: float, st
         raise InputError("velocity_mm_s must be non-zero")
     if x1 == x0:
         raise InputError(f"x_end_mm must differ from x_start_mm ({x0} mm); use isometric() for a hold")
-    start = _nonnegative("start_ms", start_ms)
+    start = nonnegative_number("start_ms", start_ms)
     duration = positive_number("duration_ms", duration_ms)
     dt = positive_number("sample_ms", sample_ms)
     stop = start + abs(x1 - x0) / speed * 1000.0
@@ -188,7 +217,7 @@ def random_length(duration_ms: float, seed: int, centre_mm: float = -8.0, low_mm
     scaled so the larger excursion just reaches ``low_mm`` or ``high_mm``; nothing is clipped.
     """
     duration = positive_number("duration_ms", duration_ms)
-    rng_seed = _seed(seed)
+    rng_seed = seed_value(seed)
     centre, low, high = (finite_number(n, v) for n, v in
                          (("centre_mm", centre_mm), ("low_mm", low_mm), ("high_mm", high_mm)))
     if not low < centre < high:
@@ -200,7 +229,7 @@ def random_length(duration_ms: float, seed: int, centre_mm: float = -8.0, low_mm
     taps = _default_numtaps(band, fs) if numtaps is None else numtaps
     if isinstance(taps, bool) or not isinstance(taps, Integral) or taps < 3:
         raise InputError(f"numtaps must be an integer >= 3, got {numtaps!r}")
-    taper = 1000.0 / band if taper_ms is None else _nonnegative("taper_ms", taper_ms)
+    taper = 1000.0 / band if taper_ms is None else nonnegative_number("taper_ms", taper_ms)
     if 2.0 * taper > duration:
         raise InputError(f"taper_ms ({taper} ms) must be at most half of duration_ms ({duration} ms)")
 

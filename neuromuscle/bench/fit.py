@@ -1,0 +1,53 @@
+"""``neuromuscle bench fit``: the Module 2 calibration on a standard synthetic set, serial and in parallel."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..parameters import ParameterSet
+
+
+def synthetic_module2_set(params: ParameterSet, noise_N: float = 0.02, seed: int = 0) -> list:
+    """The standard synthetic calibration set: a twitch and 10/20/40 Hz 0.5 s trains at the optimum (g1),
+    1 ms samples over 0.9 s, simulated with ``params`` plus Gaussian noise (sd noise_N, N) from ``seed``."""
+    from ..fitting import trial_simulation
+    from ..measured import Trial
+
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, 0.9, 0.001)
+    trials = []
+    for tid, stims in (("twitch", [0.05]), ("train10", np.arange(0.05, 0.55, 0.1)),
+                       ("train20", np.arange(0.05, 0.55, 0.05)), ("train40", np.arange(0.05, 0.55, 0.025))):
+        tr = Trial(trial_id=tid, protocol="twitch" if tid == "twitch" else "train", time_s=t,
+                   force=np.zeros_like(t), force_unit="N", length_unit="mm", length_const=params["g1"],
+                   stimulus_times_s=np.asarray(stims, dtype=float))
+        f = trial_simulation(params, tr, 0.05, settle_ms=300.0)
+        tr.force = f + rng.normal(0.0, noise_N, f.size)
+        trials.append(tr)
+    return trials
+
+
+def bench_fit(params: ParameterSet, free: tuple[str, ...] = ("C1", "C2", "C3", "alpha"),
+              start_factor: float = 1.25, workers: tuple[int, ...] = (1, 2)) -> dict[str, Any]:
+    """Module 2 calibration on ``synthetic_module2_set``: wall time (s) and simulations, serial and in
+    parallel, starting every free parameter at start_factor times its true value; checks that the parallel
+    estimates equal the serial ones."""
+    from ..fitting import FitProblem, SimulationOptions, fit
+
+    trials = synthetic_module2_set(params)
+    problem = FitProblem(trials, params, list(free), start={n: params[n] * start_factor for n in free},
+                         options=SimulationOptions(dt_ms=0.05, settle_ms=300.0))
+    out: dict[str, Any] = {"parameter_set": params.name, "free": list(free), "start_factor": start_factor,
+                           "trials": [tr.trial_id for tr in trials]}
+    estimates = {}
+    for w in workers:
+        res = fit(problem, workers=w, progress=False)
+        out[f"workers_{w}_wall_s"] = res.wall_time_s
+        out[f"workers_{w}_simulations"] = res.n_simulations
+        out[f"workers_{w}_iterations"] = res.n_iterations
+        estimates[w] = res.estimates
+        out[f"workers_{w}_relative_error"] = {n: res.estimates[n] / params[n] - 1 for n in free}
+    out["parallel_equals_serial"] = all(estimates[w] == estimates[workers[0]] for w in workers)
+    return out

@@ -1,0 +1,13 @@
+"""What gets built into NEURON: components (one per mechanism), extensions, and the MuscleUnit that wires them."""
+
+from .component import Component, Param, Port, State
+from .hatze import HatzeExcitation, HatzeMTC, HatzeTrend, hatze_contraction, hatze_excitation
+from .kim import KimActivation, KimCalcium, KimForce, kim_contraction, kim_excitation
+from .length import MuscleLength
+from .mechanisms import load_mechanisms, mechanism_hash
+from .unit import CONTRACTIONS, EXCITATIONS, MuscleUnit
+
+__all__ = ["CONTRACTIONS", "Component", "EXCITATIONS", "HatzeExcitation", "HatzeMTC", "HatzeTrend",
+           "KimActivation", "KimCalcium", "KimForce", "MuscleLength", "MuscleUnit", "Param", "Port", "State",
+           "hatze_contraction", "hatze_excitation", "kim_contraction", "kim_excitation", "load_mechanisms",
+           "mechanism_hash"]

@@ -1,0 +1,10 @@
+"""Running simulations: the Simulator (NEURON's integrator settings, set and restored), recordings by name,
+results with provenance, and ``simulate`` for one unit."""
+
+from .recordings import Recorder
+from .results import SimulationResult, load_result, save_result
+from .run import default_recordings, simulate
+from .simulator import MAX_DT_MS, Simulator
+
+__all__ = ["MAX_DT_MS", "Recorder", "SimulationResult", "Simulator", "default_recordings", "load_result",
+           "save_result", "simulate"]

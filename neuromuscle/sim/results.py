@@ -1,0 +1,116 @@
+"""Simulation results: named traces with units and provenance, in memory and in HDF5.
+
+HDF5 layout (schema ``neuromuscle.simulation/2``)::
+
+    /                 attrs: schema, parameter_set, provenance (JSON: versions, mechanism hash, settings,
+                             spike times, seeds), parameters (JSON with units), warnings (JSON), output
+    /t_ms                                   float64 (n,)
+    /traces/<slot.variable>                 float64 (n,), attr unit
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+import h5py
+import numpy as np
+
+from ..errors import InputError
+from ..parameters import ParameterSet, parameters_from_json
+
+SCHEMA = "neuromuscle.simulation/2"
+
+
+@dataclass
+class SimulationResult:
+    """Time course of one simulated unit.  ``traces`` maps ``"slot.variable"`` to samples at ``t_ms`` (ms),
+    ``units`` their units; ``output`` names the contraction output ("force.F" in N, or "force.M" in N m)."""
+
+    t_ms: np.ndarray
+    traces: Mapping[str, np.ndarray]
+    units: Mapping[str, str]
+    output: str
+    params: ParameterSet
+    settings: dict[str, Any] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+    provenance: dict[str, Any] = field(default_factory=dict)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            return self.traces[name]
+        except KeyError:
+            raise InputError(f"no trace {name!r}; recorded: {', '.join(self.traces)}") from None
+
+    @property
+    def force_N(self) -> np.ndarray:
+        """The contraction output (N for Module 3; N m for Hatze's MTC, see ``output``)."""
+        return self[self.output]
+
+    @property
+    def A(self) -> np.ndarray:
+        """Activation A (1) of the excitation model."""
+        return self["act.A"]
+
+    @property
+    def atil(self) -> np.ndarray:
+        """Module 2's Atil (1); only Kim's excitation has it."""
+        return self["act.atil"]
+
+    @property
+    def length_mm(self) -> np.ndarray:
+        """Muscle length Xm (mm)."""
+        return self["length.xm"]
+
+    @property
+    def ca_M(self) -> dict[str, np.ndarray]:
+        """Module 1's recorded calcium states (M) by state name."""
+        return {k[3:]: v for k, v in self.traces.items() if k.startswith("ca.")}
+
+    def save(self, path: str | Path, overwrite: bool = False) -> Path:
+        """Write to HDF5 with provenance; refuses to replace an existing file unless overwrite."""
+        return save_result(self, path, overwrite=overwrite)
+
+
+def save_result(result: SimulationResult, path: str | Path, overwrite: bool = False) -> Path:
+    """Write a SimulationResult (schema above); refuses to replace an existing file unless overwrite."""
+    path = Path(path)
+    if path.exists() and not overwrite:
+        raise InputError(f"{path}: exists; refusing to overwrite (overwrite=True, or --overwrite on the "
+                         "command line)")
+    tmp = path.with_name(path.name + ".part")
+    with h5py.File(tmp, "w") as f:
+        f.attrs["schema"] = SCHEMA
+        f.attrs["parameter_set"] = result.params.name
+        f.attrs["parameters"] = json.dumps(result.params.to_json())
+        f.attrs["provenance"] = json.dumps(result.provenance, default=str)
+        f.attrs["warnings"] = json.dumps(result.warnings)
+        f.attrs["output"] = result.output
+        f.create_dataset("t_ms", data=np.asarray(result.t_ms, dtype=float))
+        g = f.create_group("traces")
+        for k, v in result.traces.items():
+            d = g.create_dataset(k, data=np.asarray(v, dtype=float))
+            d.attrs["unit"] = result.units.get(k, "")
+    tmp.replace(path)
+    return path
+
+
+def load_result(path: str | Path) -> SimulationResult:
+    """Read a file written by save_result (read-only)."""
+    path = Path(path)
+    try:
+        f = h5py.File(path, "r")
+    except OSError as exc:
+        raise InputError(f"{path}: not a readable HDF5 file ({exc})") from None
+    with f:
+        if f.attrs.get("schema") != SCHEMA:
+            raise InputError(f"{path}: schema is {f.attrs.get('schema')!r}, expected {SCHEMA!r}")
+        params = parameters_from_json(json.loads(f.attrs["parameters"]), str(path))
+        prov = json.loads(f.attrs["provenance"])
+        traces = {k: f["traces"][k][()] for k in f["traces"]}
+        units = {k: str(f["traces"][k].attrs.get("unit", "")) for k in f["traces"]}
+        return SimulationResult(t_ms=f["t_ms"][()], traces=traces, units=units, output=str(f.attrs["output"]),
+                                params=params, settings=prov.get("settings", {}),
+                                warnings=json.loads(f.attrs["warnings"]), provenance=prov)

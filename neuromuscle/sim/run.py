@@ -1,0 +1,105 @@
+"""``simulate``: one unit, one protocol, one run -- build, play the length, deliver the spikes, record, destroy."""
+
+from __future__ import annotations
+
+from typing import Any, Iterable, Mapping, Sequence
+
+import numpy as np
+
+from ..errors import InputError, NumericalError
+from ..model.unit import Model, MuscleUnit
+from ..parameters import ParameterSet
+from ..protocols.lengths import LengthTrace, as_length_trace
+from ..validate import check_spike_times
+from .provenance import provenance
+from .recordings import Recorder
+from .results import SimulationResult
+from .simulator import Simulator
+
+
+def default_recordings(unit: MuscleUnit) -> list[str]:
+    """The output, A, the length, and whatever of Atil and Module 1's Ca states the unit has."""
+    names = [unit.output, "act.A", "length.xm"]
+    known = unit.recordables()
+    names += [n for n in ("act.atil", "ca.CaSR", "ca.CaSRCS", "ca.CaSP", "ca.CaSPB", "ca.CaSPT") if n in known]
+    return names
+
+
+def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTrace | float, duration_ms: float,
+             *, excitation: Model = None, contraction: Model = None,
+             extensions: Mapping[str, Mapping[str, float]] | None = None, record: Sequence[str] | None = None,
+             record_dt_ms: float = 0.1, method: str = "fixed", dt_ms: float = 0.025, atol: float = 1e-3,
+             rtol: float = 1e-6, simulator: Simulator | None = None,
+             provenance_extra: dict | None = None) -> SimulationResult:
+    """Simulate one unit from 0 to duration_ms (ms).
+
+    spikes_ms: stimulus times (ms; finite, >= 0, strictly increasing).  length: a LengthTrace or a constant
+    length (mm), played continuously into the unit's MuscleLength.  excitation/contraction/extensions: as
+    ``MuscleUnit``.  record: names "slot.variable" (default ``default_recordings``), sampled every
+    record_dt_ms (ms).  method/dt_ms/atol/rtol build the ``Simulator`` unless ``simulator`` is given.
+    """
+    sim = simulator if simulator is not None else Simulator(method=method, dt_ms=dt_ms, atol=atol, rtol=rtol)
+    if not np.isfinite(record_dt_ms) or record_dt_ms <= 0:
+        raise InputError(f"record_dt_ms must be finite and > 0, got {record_dt_ms}")
+    if not np.isfinite(duration_ms) or duration_ms <= 0:
+        raise InputError(f"duration_ms must be finite and > 0, got {duration_ms}")
+    spikes = check_spike_times(spikes_ms)
+    trace = as_length_trace(length, duration_ms)
+    unit = MuscleUnit(params, excitation=excitation, contraction=contraction, extensions=extensions)
+    try:
+        _check_pulse_spacing(unit, spikes)
+        return _run(unit, spikes, trace, duration_ms, sim, record, record_dt_ms, provenance_extra or {})
+    finally:
+        unit.destroy()
+
+
+def _check_pulse_spacing(unit: MuscleUnit, spikes: np.ndarray) -> None:
+    for slot, comp in unit.components.items():
+        gap = getattr(comp, "min_interval_ms", None)
+        if gap and spikes.size > 1 and np.min(np.diff(spikes)) < gap:
+            raise InputError(f"spike times: {type(comp).__name__} pulses last {gap} ms and may not overlap; an "
+                             f"interval is {np.min(np.diff(spikes)):.3f} ms")
+
+
+def _model_description(unit: MuscleUnit) -> dict[str, Any]:
+    return {slot: {"component": type(c).__name__, **c.switches()} for slot, c in unit.components.items()}
+
+
+def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: float, sim: Simulator,
+         record: Sequence[str] | None, record_dt_ms: float, extra: dict) -> SimulationResult:
+    from neuron import h
+
+    unit.add_spike_times(spikes)
+    movement_events = []
+    for comp in unit.components.values():
+        if trace.onset_ms is not None and hasattr(comp, "set_movement_onset"):
+            comp.set_movement_onset(trace.onset_ms)
+            if getattr(comp, "movement_compensation", False):
+                movement_events.append(trace.onset_ms)
+    tvec, xvec, vvec = h.Vector(trace.t_ms), h.Vector(trace.xm_mm), h.Vector(trace.velocity_mm_s)
+    unit.length.xm = float(trace.xm_mm[0])
+    unit.length.vm = float(trace.velocity_mm_s[0])
+    if not trace.is_isometric:
+        xvec.play(unit.length._ref_xm, tvec, 1)
+        vvec.play(unit.length._ref_vm, tvec, 1)
+    recorder = Recorder(unit, list(record) if record is not None else default_recordings(unit), record_dt_ms)
+    try:
+        sim.run(duration_ms, units=[unit], cvode_events_ms=movement_events)
+    finally:
+        xvec.play_remove()
+        vvec.play_remove()
+    t, traces = recorder.arrays(duration_ms)
+    bad = [k for k, v in traces.items() if not np.all(np.isfinite(v))]
+    if bad:
+        i = int(np.flatnonzero(~np.isfinite(traces[bad[0]]))[0])
+        raise NumericalError(f"{unit.name}: non-finite {bad[0]} at t = {t[i]:.3f} ms ({sim.method}, dt "
+                             f"{sim.dt_ms} ms): the integration failed")
+    warnings = [w for c in unit.components.values() for w in c.run_warnings()]
+    settings = {"duration_ms": duration_ms, **sim.settings(), "record_dt_ms": record_dt_ms,
+                "model": _model_description(unit), "extensions": list(unit.extension_names),
+                "movement_onset_ms": trace.onset_ms, "n_spikes": int(spikes.size)}
+    return SimulationResult(
+        t_ms=t, traces=traces, units=recorder.units, output=unit.output, params=unit.params, settings=settings,
+        warnings=warnings,
+        provenance=provenance(settings=settings, parameter_set=unit.params.name, spikes_ms=spikes.tolist(),
+                              parameters={k: v for k, v in unit.params.items()}, **extra))

@@ -1,0 +1,155 @@
+"""The Simulator: NEURON's global integrator settings for one run, set and put back (BluePyOpt's simulators).
+
+NEURON is a process-wide singleton.  A Simulator owns every global setting a run touches -- dt and steps_per_ms,
+secondorder, CVODE on/off, atol, rtol, the atolscale of every registered mechanism state, the number of threads,
+and ParallelContext's spike-exchange interval (maxstep) -- sets them for the run and restores the previous
+values afterwards, also when the run fails.  Fixed step and CVODE go through the same ``run``: the fixed step by
+``ParallelContext.psolve`` (the stepping loop stays in C), CVODE by stdrun's ``continuerun``.
+
+    sim = Simulator(method="cvode", atol=1e-3)
+    sim.run(700.0, units=[unit])         # after building units and their recordings
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+
+from ..errors import InputError
+
+#: Largest fixed step (ms) accepted.  The linearly implicit scheme stays stable beyond it, but the release
+#: kernel (tau1 = 3 ms) and spike timing are resolved only below it: larger steps are refused, not tolerated.
+MAX_DT_MS = 0.2
+
+#: NEURON has no getter for ParallelContext.set_maxstep: after a run the interval is put back to this value,
+#: larger than any run, which is how a serial psolve behaves before anyone sets it.
+MAXSTEP_AFTER_RUN_MS = 1e9
+
+
+def _registered_states() -> list[tuple[str, float]]:
+    """(``"Suffix.state"``, atolscale) for every state of every registered component."""
+    from ..model import extensions, hatze, kim
+
+    comps = (*kim.COMPONENTS, *hatze.COMPONENTS, *extensions.registry().values())
+    return [(f"{c.suffix}.{s.name}", s.atolscale) for c in comps for s in c.states]
+
+
+@dataclass(frozen=True)
+class Simulator:
+    """How to integrate: ``method`` "fixed" (step ``dt_ms``, ms) or "cvode" (variable step, ``atol`` in each
+    state's atolscale units, ``rtol``); ``nthread`` NEURON threads; ``maxstep_ms`` the psolve interval (ms; with
+    MPI the spike-exchange interval, capped by NEURON at the smallest NetCon delay); ``v_init_mV`` the membrane
+    potential every section starts from (mV; None leaves each segment's v as it is, enough for a muscle alone)."""
+
+    method: str = "fixed"
+    dt_ms: float = 0.025
+    atol: float = 1e-3
+    rtol: float = 1e-6
+    nthread: int = 1
+    maxstep_ms: float = 10.0
+    v_init_mV: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.method not in ("fixed", "cvode"):
+            raise InputError(f"method must be 'fixed' or 'cvode', got {self.method!r}")
+        for name in ("dt_ms", "atol", "rtol", "maxstep_ms"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
+                raise InputError(f"{name} must be a finite number > 0, got {v!r}")
+        if self.method == "fixed" and self.dt_ms > MAX_DT_MS:
+            raise InputError(f"dt_ms = {self.dt_ms} ms is too large for the fixed-step scheme (maximum "
+                             f"{MAX_DT_MS} ms: the 3 ms release kernel must be resolved); give a smaller dt_ms")
+        if isinstance(self.nthread, bool) or not isinstance(self.nthread, int) or self.nthread < 1:
+            raise InputError(f"nthread must be an integer >= 1, got {self.nthread!r}")
+
+    def settings(self) -> dict[str, Any]:
+        """The integrator settings as recorded in provenance (None where the method ignores one)."""
+        cv = self.method == "cvode"
+        return {"method": self.method, "dt_ms": None if cv else self.dt_ms, "atol": self.atol if cv else None,
+                "rtol": self.rtol if cv else None, "nthread": self.nthread}
+
+    # -- NEURON's global state -----------------------------------------------------------------------------
+    @staticmethod
+    def snapshot() -> dict[str, Any]:
+        """Every global setting a run may change, as NEURON holds it now."""
+        from neuron import h
+
+        h.load_file("stdrun.hoc")
+        cv = h.CVode()
+        pc = h.ParallelContext()
+        return {"dt": h.dt, "steps_per_ms": h.steps_per_ms, "secondorder": h.secondorder,
+                "cvode_active": cv.active(), "atol": cv.atol(), "rtol": cv.rtol(), "nthread": pc.nthread(),
+                "atolscale": {name: cv.atolscale(name) for name, _ in _registered_states()}}
+
+    @staticmethod
+    def _restore(saved: dict[str, Any]) -> None:
+        from neuron import h
+
+        cv = h.CVode()
+        pc = h.ParallelContext()
+        cv.active(saved["cvode_active"])
+        cv.atol(saved["atol"])
+        cv.rtol(saved["rtol"])
+        for name, scale in saved["atolscale"].items():
+            cv.atolscale(name, scale)
+        if pc.nthread() != saved["nthread"]:
+            pc.nthread(saved["nthread"])
+        pc.set_maxstep(MAXSTEP_AFTER_RUN_MS)
+        h.dt, h.steps_per_ms, h.secondorder = saved["dt"], saved["steps_per_ms"], saved["secondorder"]
+
+    def _apply(self) -> None:
+        from neuron import h
+
+        cv = h.CVode()
+        pc = h.ParallelContext()
+        h.secondorder = 0
+        if pc.nthread() != self.nthread:
+            pc.nthread(self.nthread)
+        if self.method == "cvode":
+            cv.active(1)
+            cv.atol(self.atol)
+            cv.rtol(self.rtol)
+            for name, scale in _registered_states():
+                cv.atolscale(name, scale)
+        else:
+            cv.active(0)
+            h.dt = self.dt_ms
+            h.steps_per_ms = 1.0 / self.dt_ms
+
+    # -- running -------------------------------------------------------------------------------------------
+    def run(self, duration_ms: float, units: Iterable[Any] = (), cvode_events_ms: Sequence[float] = ()) -> float:
+        """Initialise and integrate from 0 to duration_ms (ms); returns the integration's wall time (s).
+        ``units`` (MuscleUnit or anything with ``prepare()``) queue their recorded spikes at initialisation;
+        ``cvode_events_ms`` are times (ms) where CVODE must stop and restart (discontinuities of an input, e.g.
+        eq 19's movement onset)."""
+        import time
+
+        from neuron import h
+
+        if isinstance(duration_ms, bool) or not isinstance(duration_ms, (int, float)) or \
+                not np.isfinite(duration_ms) or duration_ms <= 0:
+            raise InputError(f"duration_ms must be finite and > 0, got {duration_ms!r}")
+        for u in units:
+            u.prepare()
+        saved = self.snapshot()
+        try:
+            self._apply()
+            if self.v_init_mV is None:
+                h.finitialize()
+            else:
+                h.finitialize(self.v_init_mV)
+            if self.method == "cvode":
+                for t in cvode_events_ms:
+                    h.CVode().event(float(t))
+                start = time.perf_counter()
+                h.continuerun(duration_ms)
+            else:  # psolve steps in C: no per-step hoc interpreter loop
+                pc = h.ParallelContext()
+                pc.set_maxstep(self.maxstep_ms)
+                start = time.perf_counter()
+                pc.psolve(duration_ms)
+            return time.perf_counter() - start
+        finally:
+            self._restore(saved)
