@@ -57,7 +57,7 @@ class Simulator:
         for name in ("dt_ms", "atol", "rtol", "maxstep_ms"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
-                raise InputError(f"{name} must be a finite number > 0, got {v!r}")
+                raise InputError(f"{name} must be finite and > 0, got {v!r}")
         if self.method == "fixed" and self.dt_ms > MAX_DT_MS:
             raise InputError(f"dt_ms = {self.dt_ms} ms is too large for the fixed-step scheme (maximum "
                              f"{MAX_DT_MS} ms: the 3 ms release kernel must be resolved); give a smaller dt_ms")

@@ -4,7 +4,7 @@ import re
 import subprocess
 import sys
 
-from neuromuscle import mechanisms
+from neuromuscle.model import mechanisms
 
 
 def test_hash_changes_with_mod_content(tmp_path, monkeypatch):
@@ -19,7 +19,7 @@ def test_hash_changes_with_mod_content(tmp_path, monkeypatch):
 def test_every_mod_file_has_a_header_with_units_and_declares_threadsafe_first():
     """THREADSAFE must precede POINTER in the NEURON block, or nocmodl silently makes the mechanism
     thread-unsafe ("Use of POINTER is not thread safe")."""
-    for f in mechanisms.mod_files():
+    for f in (f for f in mechanisms.mod_files() if f.suffix == ".mod"):
         text = f.read_text()
         header = text.split("ENDCOMMENT")[0]
         assert text.startswith("COMMENT") and re.search(r"\bunits?\b|\(mm", header, re.I), f.name
@@ -49,6 +49,8 @@ def test_nrnivmodl_on_mod_folder_works_for_hoc_users(tmp_path, ct09):
            "muscle len = new MuscleLength(0.5)\nmuscle ca = new KimCa(0.5)\n"
            "muscle act = new KimAct(0.5)\nmuscle frc = new KimForce(0.5)\n"
            "setpointer ca.atil, act.atil\nsetpointer ca.xm, len.xm\nsetpointer act.caspt, ca.CaSPT\n"
+           "setpointer act.T0, ca.T0\nsetpointer act.phi1, ca.phi1\nsetpointer act.phi2, ca.phi2\n"
+           "setpointer act.xopt, ca.xopt\n"
            "setpointer act.xm, len.xm\nsetpointer act.vm, len.vm\nsetpointer frc.act, act.A\n"
            "setpointer frc.xm, len.xm\nobjref nc, nil\nnc = new NetCon(nil, ca)\nnc.weight = 1\n"
            "objref fih\nfih = new FInitializeHandler(\"nc.event(100)\")\n"

@@ -8,17 +8,15 @@ import pytest
 
 from neuromuscle import InputError, LengthTrace, MuscleUnit, load_parameters, mechanism_hash, simulate
 from neuromuscle.protocols import twitch
-from neuromuscle.results import load_result
-from neuromuscle.unit import _NeuronRun
+from neuromuscle.sim import load_result
+from neuromuscle import Simulator, kim_excitation
 
 
 def _force_after_run(unit, duration_ms=300.0):
     from neuron import h
 
-    f = h.Vector().record(unit.force._ref_F, 0.1)
-    with _NeuronRun("fixed", 0.025, 0, 0) as hh:
-        hh.finitialize()
-        hh.continuerun(duration_ms)
+    f = h.Vector().record(unit.ref("force.F"), 0.1)
+    Simulator(dt_ms=0.025).run(duration_ms, units=[unit])
     return np.array(f)
 
 
@@ -131,7 +129,7 @@ def test_movement_compensation_lowers_force_while_lengthening_below_optimum(ct09
     spikes = constant_rate(20, 1200.0, start_ms=100.0)
     ramp = isokinetic_ramp(-14.0, -9.0, 5.0, 300.0, 1300.0)
     off = simulate(ct09, spikes, ramp, 1300.0)
-    on = simulate(ct09, spikes, ramp, 1300.0, movement_compensation=True)
+    on = simulate(ct09, spikes, ramp, 1300.0, excitation=kim_excitation(movement_compensation=True))
     late = on.t_ms > 900.0
     assert on.force_N[late].mean() < 0.9 * off.force_N[late].mean()
     early = on.t_ms < 300.0
@@ -140,7 +138,7 @@ def test_movement_compensation_lowers_force_while_lengthening_below_optimum(ct09
 
 def test_length_compensation_switch(ct09):
     on = simulate(ct09, twitch(100.0), -16.0, 400.0).force_N.max()
-    off = simulate(ct09, twitch(100.0), -16.0, 400.0, length_compensation=False).force_N.max()
+    off = simulate(ct09, twitch(100.0), -16.0, 400.0, excitation=kim_excitation(length_compensation=False)).force_N.max()
     assert on < off  # phi(-16) = 0.75 slows troponin binding
 
 

@@ -7,7 +7,7 @@ plateaus at dt = 0.025 ms (fixed step and CVODE), within 1 % of the spec's refer
 import numpy as np
 import pytest
 
-from neuromuscle import simulate
+from neuromuscle import kim_excitation, simulate
 from neuromuscle.metrics import plateau, twitch_metrics
 from neuromuscle.protocols import constant_rate, isokinetic_ramp, random_interval, random_length
 from neuromuscle.reference import reference_simulate
@@ -95,7 +95,7 @@ def test_random_train_during_lengthening_ramp_with_compensations(ct09):
     scale = ref.force_N.max()
     for method in ("fixed", "cvode"):
         sim = simulate(ct09, spikes, trace, 1200.0, method=method, record_dt_ms=0.5,
-                       movement_compensation=True)
+                       excitation=kim_excitation(movement_compensation=True))
         err = np.interp(ref.t_ms, sim.t_ms, sim.force_N) - ref.force_N
         assert np.sqrt(np.mean(err**2)) < 0.005 * scale, method
         assert np.max(np.abs(err)) < 0.01 * scale, method
@@ -105,8 +105,8 @@ def test_random_train_during_lengthening_ramp_with_compensations(ct09):
 def test_random_length_fixed_step_agrees_with_cvode(ct09):
     spikes = random_interval(50.0, 1500.0, seed=5, start_ms=100.0)
     trace = random_length(1700.0, seed=7)
-    a = simulate(ct09, spikes, trace, 1700.0, record_dt_ms=0.5, movement_compensation=True)
-    b = simulate(ct09, spikes, trace, 1700.0, method="cvode", record_dt_ms=0.5, movement_compensation=True)
+    a = simulate(ct09, spikes, trace, 1700.0, record_dt_ms=0.5, excitation=kim_excitation(movement_compensation=True))
+    b = simulate(ct09, spikes, trace, 1700.0, method="cvode", record_dt_ms=0.5, excitation=kim_excitation(movement_compensation=True))
     n = min(a.t_ms.size, b.t_ms.size)
     err = a.force_N[:n] - b.force_N[:n]
     # random lengthening at low activation drives the CE towards the Mashima asymptote, where the force is
