@@ -133,7 +133,7 @@ def cmd_twitch_to_tetanus(args: argparse.Namespace) -> int:
 
 
 def cmd_fit(args: argparse.Namespace) -> int:
-    from .fit_report import run_fit
+    from .reports.fit import run_fit
 
     free = [n.strip() for n in args.free.split(",") if n.strip()] if args.free else None
     trials = [n.strip() for n in args.trials.split(",") if n.strip()] if args.trials else None

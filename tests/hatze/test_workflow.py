@@ -9,7 +9,9 @@ import pytest
 from neuromuscle.cli import main
 from neuromuscle.errors import InputError
 from neuromuscle.hatze.parameters import THETA_NAMES, load_subject, load_theta, load_theta_intervals
-from neuromuscle.hatze.workflow import FIGURES, read_twitch_csv, run_twitch_to_tetanus, synthetic_twitch
+from neuromuscle.hatze.data import read_twitch_csv, synthetic_twitch
+from neuromuscle.hatze.report import FIGURES
+from neuromuscle.hatze.workflow import run_twitch_to_tetanus
 
 
 @pytest.fixture(scope="module")
