@@ -7,10 +7,11 @@ from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 import numpy as np
+from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
-from ..reports.figures import (fit_figure, label_axes, legend, mark_times, new_figure, save_figure, set_title)
-from ..reports.markdown import fixed, ms, sig, table, value_range
+from ..reports.figures import fit_figure, label_axes, legend, mark_times, new_figure, save_figure, set_title
+from ..reports.markdown import fixed, in_ms, sig, table, value_range
 from .contraction import simulate_active_state_drive
 from .data import Twitch
 from .excitation import (NU_REFERENCE_RATE_HZ, TrendFit, active_state_of_x, excitation_states, train_times,
@@ -54,7 +55,7 @@ def write_figures(out: Path, twitch: Twitch, model_nm: NDArray[np.float64], pred
     return list(FIGURES)
 
 
-def _twitch_fit(twitch: Twitch, model_nm: NDArray[np.float64]):
+def _twitch_fit(twitch: Twitch, model_nm: NDArray[np.float64]) -> Figure:
     fig, ax = fit_figure(twitch.t_s, twitch.moment_nm, model_nm, x="time (s)", y="moment (N m)",
                          residual_y="fit - data (N m)", points=True, measured_label="twitch (data)",
                          simulated_label="fit")
@@ -66,7 +67,7 @@ def _twitch_fit(twitch: Twitch, model_nm: NDArray[np.float64]):
     return fig
 
 
-def _trains(preds: Sequence[TrainPrediction]):
+def _trains(preds: Sequence[TrainPrediction]) -> Figure:
     fig, (ax,) = new_figure()
     for p in preds:
         ax.plot(p.trace.t_s, p.trace.moment_nm, label=f"{p.rate_hz:g} Hz (peak {p.peak_moment_nm:.1f} N m)")
@@ -76,7 +77,7 @@ def _trains(preds: Sequence[TrainPrediction]):
     return fig
 
 
-def _trend_fit(table2: ExcitationTheta, trend_fit: TrendFit, window_s: float, dt_s: float):
+def _trend_fit(table2: ExcitationTheta, trend_fit: TrendFit, window_s: float, dt_s: float) -> Figure:
     st = excitation_states(train_times(NU_REFERENCE_RATE_HZ, window_s), window_s, table2, dt_s)
     fig, (ax,) = new_figure()
     ax.plot(st.t_s, st.z[:, 2], "0.5", lw=0.6, label="gamma, eqs 6-7 (Table 2 theta), 100 Hz")
@@ -88,7 +89,7 @@ def _trend_fit(table2: ExcitationTheta, trend_fit: TrendFit, window_s: float, dt
     return fig
 
 
-def _rise_times(subjects: Mapping[str, Subject], rise: Mapping[str, Any], step_s: float):
+def _rise_times(subjects: Mapping[str, Subject], rise: Mapping[str, Any], step_s: float) -> Figure:
     fig, ax = new_figure(2, columns=True)
     q0 = ActiveStateConstants().q0
     for k, s in subjects.items():
@@ -190,16 +191,16 @@ def _trend_rows(trend: dict[str, Any]) -> list[tuple[str, ...]]:
 
 
 def _rise_rows(rise: dict[str, Any]) -> list[tuple[str, ...]]:
-    rows = [(f"moment rise time q = 1, subject {k} (ms)", ms(v), "n/a", "10-90 %")
+    rows = [(f"moment rise time q = 1, subject {k} (ms)", in_ms(v), "n/a", "10-90 %")
             for k, v in rise["moment_q1_s"].items()]
-    rows.append(("moment rise time q = 1, mean (ms)", ms(rise["moment_q1_mean_s"]), ms(rise["moment_q1_mean_seed_s"]),
-                 "seed 3.3 'on average'"))
+    rows.append(("moment rise time q = 1, mean (ms)", in_ms(rise["moment_q1_mean_s"]),
+                 in_ms(rise["moment_q1_mean_seed_s"]), "seed 3.3 'on average'"))
     levels = ", ".join(map(str, rise["active_state_levels_nu"]))
     for k, v in rise["active_state_trend"].items():
-        per = ", ".join(ms(x) for x in v["rise_time_s_by_nu"].values())
-        rows.append((f"active-state rise time, subject {k} (ms)", ms(v["mean_s"]), "n/a",
+        per = ", ".join(in_ms(x) for x in v["rise_time_s_by_nu"].values())
+        rows.append((f"active-state rise time, subject {k} (ms)", in_ms(v["mean_s"]), "n/a",
                      f"mean of nu = {levels}: {per} ms; {v['source']}"))
-    rows.append(("active-state rise time, mean (ms)", ms(rise["active_state_trend_mean_s"]),
-                 ms(rise["active_state_trend_mean_seed_s"]),
+    rows.append(("active-state rise time, mean (ms)", in_ms(rise["active_state_trend_mean_s"]),
+                 in_ms(rise["active_state_trend_mean_seed_s"]),
                  f"seed's low/high levels unstated; ours nu = {levels}"))
     return rows

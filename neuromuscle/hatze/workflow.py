@@ -1,10 +1,11 @@
 """The seed's "from twitch to tetanus" workflow (seed 000) in one reproducible call: ``run_twitch_to_tetanus``.
 
-Steps (all SI: s, rad, N m):
+Steps (all SI: s, rad, N m); (b)-(e) are computed in ``sections``:
 
-(a) The twitch to fit (``data.load_twitch``): a CSV file (columns ``time_s``, ``moment_nm``; extra columns ignored; one stimulus at
-    ``stim_time_s``), or - without a file - a *synthetic* isometric twitch of the chosen subject made with Table 2's
-    theta, sampled at 1 kHz for 0.8 s, plus Gaussian noise of ``noise_nm`` (N m) from ``numpy.random.default_rng(seed)``.
+(a) The twitch to fit (``data.load_twitch``): a CSV file (columns ``time_s``, ``moment_nm``; extra columns ignored;
+    one stimulus at ``stim_time_s``), or - without a file - a *synthetic* isometric twitch of the chosen subject made
+    with Table 2's theta, sampled at 1 kHz for 0.8 s, plus Gaussian noise of ``noise_nm`` (N m) from
+    ``numpy.random.default_rng(seed)``.
 (b) Fit of theta by Levenberg-Marquardt with the sensitivity-equation Jacobian (``fitting.fit_twitch``). theta1 is
     frozen at Table 2 by default: the twitch carries no information on it (fitting.py docstring); theta2..theta5
     start from Table 2 times ``start_factors`` (default 2, 0.5, 0.5, 2) so that the fit has to find them. Reported:

@@ -28,6 +28,7 @@ DPI = 100
 MEASURED_COLOR, SIMULATED_COLOR = "0.5", "C3"
 
 _UNIT = re.compile(r"\(.+\)")
+_NO_BRACES = str.maketrans("{}", "()")
 
 
 def new_figure(n_panels: int = 1, *, columns: bool = False, height_ratios: Sequence[float] | None = None,
@@ -59,17 +60,15 @@ def label_axes(ax: Axes, *, x: str | None, y: str) -> None:
 
 
 def readable_title(*parts: str | float | Mapping[str, Any]) -> str:
-    """Join ``parts`` with "; ": text as it is, numbers with 4 significant digits, mappings as "k = v, ...".
-
-    Raises ValueError for text that looks like a Python repr (braces), which a reader should never see.
-    """
+    """Join ``parts`` with "; ": text as it is (braces, which would read as a Python repr, become parentheses),
+    numbers with 4 significant digits, mappings as "k = v, ...".  Raises ValueError for any other object."""
     def one(p: Any) -> str:
         if isinstance(p, Mapping):
             return ", ".join(f"{k} = {one(v)}" for k, v in p.items())
         if isinstance(p, (int, float)) and not isinstance(p, bool):
             return f"{p:.4g}"
-        if isinstance(p, str) and not re.search(r"[{}]", p):
-            return p
+        if isinstance(p, str):
+            return p.translate(_NO_BRACES)
         raise ValueError(f"title part {p!r} is not readable text")
     return "; ".join(one(p) for p in parts)
 

@@ -15,7 +15,7 @@ def fixed(x: float, decimals: int = 2) -> str:
     return f"{x:.{decimals}f}"
 
 
-def ms(seconds: float) -> str:
+def in_ms(seconds: float) -> str:
     """A duration given in s, written in whole ms."""
     return f"{1e3 * seconds:.0f}"
 

@@ -124,3 +124,17 @@ def test_bad_csv_values_are_refused(tmp_path, content, culprit):
 def test_bad_arguments_are_refused(tmp_path, kwargs, culprit):
     with pytest.raises(InputError, match=culprit):
         run_twitch_to_tetanus(tmp_path / "o", **kwargs)
+
+
+def test_options_are_one_checked_value_and_keywords_replace_fields(tmp_path):
+    from dataclasses import replace
+
+    from neuromuscle.hatze.workflow import TwitchToTetanusOptions
+
+    opts = TwitchToTetanusOptions(noise_nm=0, seed=np.int64(3), start_factors=[1, 2, 0.5, 0.5, 2])
+    assert (opts.noise_nm, opts.seed, opts.start_factors) == (0.0, 3, (1.0, 2.0, 0.5, 0.5, 2.0))
+    with pytest.raises(InputError, match="start_factors"):
+        replace(opts, start_factors=(1.0, 2.0))
+    with pytest.raises(TypeError, match="noise"):
+        run_twitch_to_tetanus(tmp_path / "o", opts, noise=0.1)        # a misspelt option is not ignored
+    assert not (tmp_path / "o").exists()

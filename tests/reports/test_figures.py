@@ -83,7 +83,8 @@ def test_readable_title_never_prints_a_repr():
     title = readable_title("trial 3 (isometric)", {"C1": 1.234567, "C3": 70})
     assert title == "trial 3 (isometric); C1 = 1.235, C3 = 70"
     assert readable_title("NRMSE (%)", 0.123456) == "NRMSE (%); 0.1235"
-    for bad in ("{'a': 1}", object(), [1, 2]):
+    assert readable_title("trial {'a': 1}") == "trial ('a': 1)"
+    for bad in (object(), [1, 2], None):
         with pytest.raises(ValueError, match="not readable"):
             readable_title(bad)
 
