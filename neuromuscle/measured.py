@@ -1,4 +1,4 @@
-"""Measured muscle data: the HDF5 layout of /work/shared/spec/measured_data.md, CSV import and real-data loaders.
+"""Measured muscle data: the HDF5 layout of shared/spec/measured_data.md, CSV import and real-data loaders.
 
 Units throughout this module: time in **seconds** (never ms), force in N (or N*m for a joint moment), length in
 mm (or rad for a joint angle), as the file's ``force_unit`` / ``length_unit`` attributes say.

@@ -9,7 +9,9 @@ import pytest
 from neuromuscle.cli import main
 from neuromuscle.errors import InputError
 from neuromuscle.hatze.parameters import THETA_NAMES, load_subject, load_theta, load_theta_intervals
-from neuromuscle.hatze.workflow import FIGURES, read_twitch_csv, run_twitch_to_tetanus, synthetic_twitch
+from neuromuscle.hatze.data import read_twitch_csv, synthetic_twitch
+from neuromuscle.hatze.report import FIGURES
+from neuromuscle.hatze.workflow import run_twitch_to_tetanus
 
 
 @pytest.fixture(scope="module")
@@ -122,3 +124,17 @@ def test_bad_csv_values_are_refused(tmp_path, content, culprit):
 def test_bad_arguments_are_refused(tmp_path, kwargs, culprit):
     with pytest.raises(InputError, match=culprit):
         run_twitch_to_tetanus(tmp_path / "o", **kwargs)
+
+
+def test_options_are_one_checked_value_and_keywords_replace_fields(tmp_path):
+    from dataclasses import replace
+
+    from neuromuscle.hatze.workflow import TwitchToTetanusOptions
+
+    opts = TwitchToTetanusOptions(noise_nm=0, seed=np.int64(3), start_factors=[1, 2, 0.5, 0.5, 2])
+    assert (opts.noise_nm, opts.seed, opts.start_factors) == (0.0, 3, (1.0, 2.0, 0.5, 0.5, 2.0))
+    with pytest.raises(InputError, match="start_factors"):
+        replace(opts, start_factors=(1.0, 2.0))
+    with pytest.raises(TypeError, match="noise"):
+        run_twitch_to_tetanus(tmp_path / "o", opts, noise=0.1)        # a misspelt option is not ignored
+    assert not (tmp_path / "o").exists()

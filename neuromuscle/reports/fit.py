@@ -23,12 +23,18 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .calibration import MODULE2_FREE, StagedCalibration, staged_calibration
-from .errors import InputError
-from .fitting import FitProblem, FitResult, SimulationOptions, fit, trial_simulation
-from .identification import nrmse_percent
-from .measured import MeasuredData, Trial, read_measured
-from .parameters import SPECS, ParameterSet, load_parameters
+from ..calibration import MODULE2_FREE, StagedCalibration, staged_calibration
+from ..errors import InputError
+from ..fitting import FitProblem, FitResult, SimulationOptions, fit, trial_simulation
+from ..identification import nrmse_percent
+from ..measured import MeasuredData, Trial, read_measured
+from ..parameters import SPECS, ParameterSet, load_parameters
+from .figures import fit_figure, legend, mark_times, save_figure, set_title
+from .markdown import bullets, interval, link, sig, table
+from .outdir import atomic_path, check_out_dir, prepare_out_dir, write_text
+
+#: The files whose presence in ``out_dir`` means a report is there (kept unless overwrite).
+REPORT_FILES: tuple[str, ...] = ("params.json", "fit.json", "summary.md")
 
 
 def _fit_trials(data: MeasuredData, ids: Sequence[str] | None) -> tuple[list[Trial], list[str]]:
@@ -52,27 +58,12 @@ def _fit_trials(data: MeasuredData, ids: Sequence[str] | None) -> tuple[list[Tri
 
 
 def _plot_trial(trial: Trial, sim: np.ndarray, nrmse: float, path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    t = np.asarray(trial.time_s)
-    fig, ax = plt.subplots(2, 1, sharex=True, figsize=(7, 4.5), gridspec_kw={"height_ratios": [3, 1]})
-    ax[0].plot(t, trial.force, color="0.5", lw=1, label="measured")
-    ax[0].plot(t, sim, "C0", lw=1.2, label="simulated")
-    for s in np.asarray(trial.stimulus_times_s)[:200]:
-        ax[0].axvline(s, color="C3", lw=0.3, alpha=0.4)
-    ax[0].set_ylabel("force (N)")
-    ax[0].legend(fontsize=8)
-    ax[0].set_title(f"{trial.trial_id} ({trial.protocol}): NRMSE {nrmse:.2f} %", fontsize=9)
-    ax[1].plot(t, sim - trial.force, "k", lw=0.8)
-    ax[1].axhline(0, color="0.7", lw=0.5)
-    ax[1].set_ylabel("sim - meas (N)")
-    ax[1].set_xlabel("time (s)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    fig, ax = fit_figure(trial.time_s, trial.force, sim, x="time (s)", y="force (N)",
+                         residual_y="simulated - measured (N)")
+    mark_times(ax[0], trial.stimulus_times_s)
+    legend(ax[0])
+    set_title(ax[0], f"{trial.trial_id} ({trial.protocol})", f"NRMSE {nrmse:.2f} %")
+    save_figure(fig, path)
 
 
 def _safe_name(tid: str) -> str:
@@ -87,10 +78,7 @@ def run_fit(data_path: str | Path, out_dir: str | Path, *, params: str | Path = 
     """Fit ``data_path`` (measured-data HDF5) from the parameter set ``params``; write the report into
     ``out_dir`` (see the module docstring); an existing report there is kept unless overwrite.  Returns the
     content of fit.json."""
-    existing = [n for n in ("params.json", "fit.json", "summary.md") if (Path(out_dir) / n).exists()]
-    if existing and not overwrite:
-        raise InputError(f"{out_dir}: already holds {', '.join(existing)}; refusing to overwrite "
-                         "(--overwrite replaces them)")
+    check_out_dir(out_dir, overwrite, REPORT_FILES)
     data = read_measured(data_path)
     base = load_parameters(params)
     free = list(free) if free else list(MODULE2_FREE)
@@ -99,8 +87,7 @@ def run_fit(data_path: str | Path, out_dir: str | Path, *, params: str | Path = 
         raise InputError(f"--free: unknown parameter(s) {unknown}; known: {', '.join(SPECS)}")
     opts = SimulationOptions(dt_ms=dt_ms, record_dt_ms=record_dt_ms, settle_ms=settle_ms)
     chosen, notes = _fit_trials(data, trials)
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    out = prepare_out_dir(out_dir, overwrite, REPORT_FILES)
     stages: StagedCalibration | None = None
     result: FitResult | None = None
     if staged:
@@ -115,7 +102,8 @@ def run_fit(data_path: str | Path, out_dir: str | Path, *, params: str | Path = 
         result = fit(problem, workers=workers, progress=progress, max_iterations=max_iterations)
         final = ParameterSet(f"{base.name}-fit", result.parameters.values,
                              f"neuromuscle fit {Path(data_path).name} from {base.name}, free {','.join(free)}")
-    final.save(out / "params.json")
+    with atomic_path(out / "params.json") as part:
+        final.save(part)
     sims: dict[str, np.ndarray] = {}
     for t in chosen:
         if not staged and result is not None:
@@ -147,8 +135,8 @@ def run_fit(data_path: str | Path, out_dir: str | Path, *, params: str | Path = 
                           "notes": s.notes, "skipped": s.skipped} for s in stages.stages]
     doc["final_parameters"] = {k: final[k] for k in sorted(set(free) | {
         k for s in (stages.stages if stages else []) for k in s.values if k in SPECS})}
-    (out / "fit.json").write_text(json.dumps(doc, indent=1, default=float) + "\n")
-    (out / "summary.md").write_text(_markdown(doc, final, result))
+    write_text(out / "fit.json", json.dumps(doc, indent=1, default=float) + "\n")
+    write_text(out / "summary.md", _markdown(doc, final, result))
     return doc
 
 
@@ -159,28 +147,28 @@ def _markdown(doc: dict[str, Any], final: ParameterSet, result: FitResult | None
     if result is not None:
         f = doc["fit"]
         lines += [f"## Fitted parameters ({f['iterations']} iterations, {f['simulations']} simulations, "
-                  f"{f['wall_time_s']:.1f} s; {f['message']})", "",
-                  "| parameter | estimate | unit | SE | 95 % interval | identifiable |", "|---|---|---|---|---|---|"]
-        for n in result.free:
-            lo, hi = result.ci95[n]
-            ok = "yes" if result.identifiable[n] else f"NO: {result.flags[n]}"
-            lines.append(f"| {n} | {result.estimates[n]:.6g} | {SPECS[n].unit} | {result.std_errors[n]:.3g} | "
-                         f"[{lo:.6g}, {hi:.6g}] | {ok} |")
+                  f"{f['wall_time_s']:.1f} s; {f['message']})", ""]
+        lines += table(("parameter", "estimate", "unit", "SE", "95 % interval", "identifiable"),
+                       ((n, sig(result.estimates[n], 6), SPECS[n].unit, sig(result.std_errors[n]),
+                         interval(*result.ci95[n]), "yes" if result.identifiable[n] else f"NO: {result.flags[n]}")
+                        for n in result.free))
         lines.append("")
     if "stages" in doc:
         lines += ["## Stages", ""]
-        for s in doc["stages"]:
-            if s["skipped"]:
-                lines.append(f"- **{s['stage']}**: skipped ({s['skipped']})")
-                continue
-            vals = ", ".join(f"{k} = {v:.6g}" for k, v in s["values"].items())
-            errs = ", ".join(f"{k} {v:.4g}" for k, v in s["errors"].items())
-            lines.append(f"- **{s['stage']}**: {vals}; errors: {errs}; data: {', '.join(s['data'])}")
+        lines += bullets(_stage_line(s) for s in doc["stages"])
         lines.append("")
-    lines += ["## NRMSE per trial (eq 17, final parameters)", "", "| trial | NRMSE (%) | figure |", "|---|---|---|"]
-    for tid, v in doc["nrmse_percent"].items():
-        lines.append(f"| {tid} | {v:.3f} | [{doc['figures'][tid]}]({doc['figures'][tid]}) |")
+    lines += ["## NRMSE per trial (eq 17, final parameters)", ""]
+    lines += table(("trial", "NRMSE (%)", "figure"),
+                   ((tid, f"{v:.3f}", link(doc["figures"][tid])) for tid, v in doc["nrmse_percent"].items()))
     if doc["notes"]:
-        lines += ["", "## Notes", ""] + [f"- {n}" for n in doc["notes"]]
+        lines += ["", "## Notes", ""] + bullets(doc["notes"])
     lines += ["", f"Parameters: `params.json` (set `{final.name}`); all numbers: `fit.json`.", ""]
     return "\n".join(lines)
+
+
+def _stage_line(stage: dict[str, Any]) -> str:
+    if stage["skipped"]:
+        return f"**{stage['stage']}**: skipped ({stage['skipped']})"
+    vals = ", ".join(f"{k} = {sig(v, 6)}" for k, v in stage["values"].items())
+    errs = ", ".join(f"{k} {sig(v, 4)}" for k, v in stage["errors"].items())
+    return f"**{stage['stage']}**: {vals}; errors: {errs}; data: {', '.join(stage['data'])}"
