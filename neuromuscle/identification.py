@@ -12,7 +12,7 @@ from typing import Mapping, Sequence
 import numpy as np
 from scipy import signal
 
-from .checks import finite_number, positive_number
+from .validate import finite_number, positive_number
 from .errors import InputError
 
 #: Largest condition number accepted for the 2x2 systems of eqs 13-16.

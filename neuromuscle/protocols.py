@@ -16,7 +16,7 @@ from numbers import Integral
 import numpy as np
 from scipy import signal
 
-from .checks import finite_number, positive_number
+from .validate import finite_number, positive_number
 from .errors import InputError
 from .length import LengthTrace
 
