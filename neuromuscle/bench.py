@@ -10,7 +10,7 @@ import numpy as np
 
 from .errors import NumericalError
 from .mechanisms import load_mechanisms
-from .metrics import twitch_metrics
+from .analysis.metrics import twitch_metrics
 from .parameters import ParameterSet
 from .protocols import constant_rate
 from .unit import MuscleUnit, _NeuronRun

@@ -46,7 +46,8 @@ import numpy as np
 
 from .errors import InputError
 from .fitting import FitProblem, FitResult, SimulationOptions, fit, trial_simulation
-from .identification import hill_mashima_coefficients, length_compensation_coefficients, nrmse_percent
+from .analysis.closed_form import hill_mashima_coefficients, length_compensation_coefficients
+from .analysis.metrics import nrmse_percent
 from .measured import MeasuredData, Trial
 from .parameters import ParameterSet
 

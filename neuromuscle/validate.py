@@ -35,6 +35,19 @@ def positive_number(name: str, value: object) -> float:
     return x
 
 
+def finite_series(name: str, values: object) -> np.ndarray:
+    """``values`` as a finite 1-D float array; InputError naming ``name`` otherwise."""
+    try:
+        arr = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a 1-D array of numbers") from None
+    if arr.ndim != 1:
+        raise InputError(f"{name} must be 1-D, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise InputError(f"{name} is not finite at sample {int(np.flatnonzero(~np.isfinite(arr))[0])}")
+    return arr
+
+
 def time_order_problem(times: np.ndarray, where: str, unit: str, *, strict: bool = True) -> str | None:
     """The first step of the finite 1-D array ``times`` (``unit``) that breaks strictly increasing order
     (``strict``) or non-decreasing order, as a message naming ``where``, the index and the value; None if none."""
