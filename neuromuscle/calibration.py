@@ -46,7 +46,8 @@ import numpy as np
 
 from .errors import InputError
 from .fitting import FitProblem, FitResult, SimulationOptions, fit, trial_simulation
-from .identification import hill_mashima_coefficients, length_compensation_coefficients, nrmse_percent
+from .analysis.closed_form import hill_mashima_coefficients, length_compensation_coefficients
+from .analysis.metrics import nrmse_percent
 from .measured import MeasuredData, Trial
 from .parameters import ParameterSet
 
@@ -466,7 +467,7 @@ def real_data_calibration(real_data_dir: str | Path) -> dict[str, Any]:
     from these traces: KSE (no step or quick release), Module 2 (stimulus times unknown, single supramaximal
     rate), g1/g2 in mm (two lengths only, and the paper's 0 mm is not the model's reference), c0/d0 (the force
     at the stretch end includes history-dependent enhancement that the model does not have)."""
-    from .measured import load_herzog_leonard_2002, load_scott_brown_loeb_1996
+    from .literature import load_herzog_leonard_2002, load_scott_brown_loeb_1996
 
     root = Path(real_data_dir)
     out: dict[str, Any] = {}

@@ -56,7 +56,7 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from .errors import InputError, NumericalError
-from .identification import nrmse_percent
+from .analysis.metrics import nrmse_percent
 from .length import LengthTrace
 from .measured import Trial
 from .parameters import SPECS, ParameterSet

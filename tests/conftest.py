@@ -1,4 +1,4 @@
-"""Shared fixtures: the shipped parameter sets, and the real-data folder (tests using it skip if absent)."""
+"""Shared fixtures: the shipped parameter sets, and the real-data folder (tests using it fail if it is absent)."""
 
 from pathlib import Path
 
@@ -22,5 +22,5 @@ def ct95():
 @pytest.fixture(scope="session")
 def real_data() -> Path:
     if not REAL_DATA.is_dir():
-        pytest.skip(f"real data folder {REAL_DATA} is absent")
+        pytest.fail(f"real data folder {REAL_DATA} is absent (../shared/real_data beside the checkout; CI has it)")
     return REAL_DATA

@@ -154,7 +154,7 @@ def test_superposition_and_time_invariance():
     dt = 1e-4
     a = excitation_states([0.0031], 0.25, THETA, dt).z
     b = excitation_states([0.02057], 0.25, THETA, dt).z
-    ab = excitation_states([0.02057, 0.0031], 0.25, THETA, dt).z
+    ab = excitation_states([0.0031, 0.02057], 0.25, THETA, dt).z
     _close(ab, a + b, 1e-11)
     shifted = excitation_states([0.0031 + 0.05], 0.25, THETA, dt).z        # shift by 500 grid steps
     _close(shifted[500:], a[:-500], 1e-11)
@@ -222,6 +222,9 @@ def test_active_state_relation():
     (dict(stim_times_s=[-0.01]), "stim_times_s must lie in"),
     (dict(stim_times_s=[0.5]), "stim_times_s must lie in"),
     (dict(stim_times_s=[np.nan]), "stim_times_s contains non-finite"),
+    (dict(stim_times_s=[0.03, 0.01]), r"stim_times_s must be strictly increasing: index 1 .*not sorted"),
+    (dict(stim_times_s=[0.01, 0.01]), r"stim_times_s must be strictly increasing: .*two equal times"),
+    (dict(stim_times_s=[[0.01], [0.02]]), r"stim_times_s must be a 1-D"),
     (dict(dt_s=0.003), "dt_s = 0.003"),
     (dict(t_end_s=-1.0), "t_end_s = -1.0"),
     (dict(theta=(1, 2, 3, 4, 5)), "theta must be an ExcitationTheta"),

@@ -40,6 +40,7 @@ from scipy.optimize import least_squares
 from scipy.stats import t as student_t
 
 from ..errors import InputError, NumericalError
+from ..validate import check_spike_times
 from .parameters import ActiveStateConstants, ExcitationTheta, TrendParameters, check_positive
 
 #: Duration of one stimulus (half-sine) of alpha, s (eq 8).
@@ -82,18 +83,14 @@ class ExcitationStates:
 # ------------------------------------------------------------------------------------------- inputs
 
 def check_stim_times(stim_times_s: ArrayLike, t_end_s: float) -> NDArray[np.float64]:
-    """Validate stimulus onset times (s): finite, within [0, t_end_s); returned sorted."""
+    """Validate stimulus onset times (s): the package's one rule for spike times (1-D, finite, >= 0, strictly
+    increasing: unsorted or repeated onsets are refused, never sorted) and before t_end_s (s)."""
     t_end = check_positive("t_end_s", t_end_s)
-    try:
-        stim = np.asarray(stim_times_s, dtype=float).ravel()
-    except (TypeError, ValueError):
-        raise InputError(f"stim_times_s must be a sequence of numbers (s), got {stim_times_s!r}") from None
-    if not np.all(np.isfinite(stim)):
-        raise InputError("stim_times_s contains non-finite values")
-    if stim.size and (stim.min() < 0.0 or stim.max() >= t_end):
+    stim = check_spike_times(stim_times_s, "stim_times_s", unit="s")
+    if stim.size and stim[-1] >= t_end:
         raise InputError(f"stim_times_s must lie in [0, t_end_s = {t_end}) s; got range "
-                         f"[{stim.min()}, {stim.max()}]")
-    return np.sort(stim)
+                         f"[{stim[0]}, {stim[-1]}]")
+    return stim
 
 
 def uniform_grid(t_end_s: float, dt_s: float) -> NDArray[np.float64]:

@@ -26,7 +26,7 @@ import numpy as np
 from ..calibration import MODULE2_FREE, StagedCalibration, staged_calibration
 from ..errors import InputError
 from ..fitting import FitProblem, FitResult, SimulationOptions, fit, trial_simulation
-from ..identification import nrmse_percent
+from ..analysis.metrics import nrmse_percent
 from ..measured import MeasuredData, Trial, read_measured
 from ..parameters import SPECS, ParameterSet, load_parameters
 from .figures import fit_figure, legend, mark_times, save_figure, set_title

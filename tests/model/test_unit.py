@@ -78,7 +78,7 @@ def test_simulations_do_not_leak_neuron_state(ct09):
 
 
 @pytest.mark.parametrize("kwargs, match", [
-    (dict(spikes_ms=[10.0, float("nan")]), "spike times: non-finite"),
+    (dict(spikes_ms=[10.0, float("nan")]), "spike times contains non-finite"),
     (dict(spikes_ms=[30.0, 10.0]), "not sorted"),
     (dict(spikes_ms=[-1.0]), "negative time"),
     (dict(length=LengthTrace(np.array([0.0, 100.0]), np.array([-8.0, -8.0]))), "shorter than the run"),

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from neuromuscle import kim_excitation, simulate
-from neuromuscle.metrics import plateau, twitch_metrics
+from neuromuscle.analysis.metrics import plateau, twitch_metrics
 from neuromuscle.protocols import constant_rate, isokinetic_ramp, random_interval, random_length
 from neuromuscle.reference import reference_simulate
 

@@ -1,30 +1,14 @@
-"""Identification tools: eqs 13-16, 17, 18 and the inverse of Module 3."""
+"""neuromuscle.analysis.inverse: activation A(t) from force and length, against an independent forward Module 3."""
 
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from neuromuscle.analysis.inverse import inverse_activation
 from neuromuscle.errors import InputError
-from neuromuscle.identification import (hill_mashima_coefficients, inverse_activation,
-                                        length_compensation_coefficients, nrmse_percent)
-
-CT09_POINTS = [(-160.0, 1.0), (-1.0, 22.0), (1.0, 23.5), (80.0, 34.35)]
-CT95_POINTS = [(-80.0, 8.0), (-1.0, 28.0), (1.0, 29.5), (80.0, 43.0)]
 
 #: Module 3 of CT09 (Table 1): N, mm^-1, mm, N, mm/s.
 CT09_M3 = dict(P0=23.0, KSE=0.4, g1=-8.0, g2=21.4, a0=2.35, b0=24.35, c0=-7.4, d0=30.3)
-
-
-# ------------------------------------------------------------------------------------------- eqs 13-16
-
-@pytest.mark.parametrize("points, p0, expected", [
-    (CT09_POINTS, 23.0, (2.348, 24.348, -7.352, 30.297)),
-    (CT95_POINTS, 28.9, (0.180, 31.311, -9.185, 31.858)),
-])
-def test_hill_mashima_reproduces_table1(points, p0, expected):
-    coef = hill_mashima_coefficients(points, p0)
-    got = (coef["a0"], coef["b0"], coef["c0"], coef["d0"])
-    np.testing.assert_allclose(got, expected, atol=6e-4)
 
 
 def _ce_velocity(force, fc, p):
@@ -33,90 +17,6 @@ def _ce_velocity(force, fc, p):
         return -p["b0"] * (fc - force) / (force + p["a0"] * fc / p["P0"])
     return -p["d0"] * (fc - force) / (2.0 * fc - force + p["c0"] * fc / p["P0"])
 
-
-@pytest.mark.parametrize("points, p0", [(CT09_POINTS, 23.0), (CT95_POINTS, 28.9)])
-def test_hill_mashima_coefficients_pass_through_the_points(points, p0):
-    coef = {**hill_mashima_coefficients(list(reversed(points)), p0), "P0": p0}  # order does not matter
-    for velocity, tension in points:
-        assert _ce_velocity(tension, p0, coef) == pytest.approx(velocity, rel=1e-9)
-
-
-@pytest.mark.parametrize("points, p0, culprit", [
-    ([(-160, 1), (-1, 22), (-2, 20), (80, 34.35)], 23.0, "points"),        # three shortening
-    ([(-160, 1), (0, 23), (1, 23.5), (80, 34.35)], 23.0, "points"),         # V = 0
-    ([(-160, 1), (-160, 1), (1, 23.5), (80, 34.35)], 23.0, r"points \(shortening\)"),  # same point twice
-    ([(-160, 1), (-1, 22), (1, 24), (2, 25)], 23.0, r"points \(lengthening\)"),  # collinear with (0, P0)
-    ([(-160, 1), (-1, 23), (1, 23.5), (80, 34.35)], 23.0, "shortening tensions"),
-    ([(-160, 1), (-1, 22), (1, 22.5), (80, 34.35)], 23.0, "lengthening tensions"),
-    ([(-160, 1), (-1, 22), (1, 23.5), (80, np.nan)], 23.0, "points"),
-    ([(-160, 1), (-1, 22), (1, 23.5)], 23.0, "points"),
-    (CT09_POINTS, 0.0, "P0_N"),
-    (CT09_POINTS, np.inf, "P0_N"),
-])
-def test_hill_mashima_bad_inputs(points, p0, culprit):
-    with pytest.raises(InputError, match=culprit):
-        hill_mashima_coefficients(points, p0)
-
-
-# ------------------------------------------------------------------------------------------------ eq 18
-
-def test_length_compensation_ct09_split():
-    coef = length_compensation_coefficients([(-16.0, 0.77), (-8.0, 1.0), (0.0, 1.08)], x_opt_mm=-8.0)
-    got = [coef[k] for k in ("phi1", "phi2", "phi3", "phi4")]
-    np.testing.assert_allclose(got, [0.02875, 1.23, 0.01, 1.08], atol=1e-12)
-
-
-def test_length_compensation_ct95_one_line():
-    coef = length_compensation_coefficients([(-10.0, 0.97), (-5.0, 1.0), (0.0, 1.03)], x_opt_mm=-5.0,
-                                            split=False)
-    got = [coef[k] for k in ("phi1", "phi2", "phi3", "phi4")]
-    np.testing.assert_allclose(got, [0.006, 1.03, 0.006, 1.03], atol=1e-12)
-
-
-def test_length_compensation_least_squares_with_more_points():
-    pts = [(-16.0, 0.70), (-12.0, 0.92), (-8.0, 1.0), (-4.0, 1.05), (0.0, 1.07)]
-    coef = length_compensation_coefficients(pts, x_opt_mm=-8.0)
-    slope, intercept = np.polyfit([-16, -12, -8], [0.70, 0.92, 1.0], 1)
-    assert coef["phi1"] == pytest.approx(slope) and coef["phi2"] == pytest.approx(intercept)
-    slope, intercept = np.polyfit([-8, -4, 0], [1.0, 1.05, 1.07], 1)
-    assert coef["phi3"] == pytest.approx(slope) and coef["phi4"] == pytest.approx(intercept)
-
-
-@pytest.mark.parametrize("points, x_opt, split, culprit", [
-    ([(-16, 0.77), (-8, 1.0), (0, 1.08)], -10.0, True, "at or below"),
-    ([(-16, 0.77), (-8, 1.0), (0, 1.08)], 1.0, True, "at or above"),
-    ([(-8, 0.9), (-8, 1.0)], -8.0, False, "distinct"),
-    ([(-16, np.nan), (-8, 1.0), (0, 1.08)], -8.0, True, "points"),
-    ([(-16, 0.77), (-8, 1.0), (0, 1.08)], np.nan, True, "x_opt_mm"),
-    ([1.0, 2.0, 3.0], -8.0, True, "points"),
-])
-def test_length_compensation_bad_inputs(points, x_opt, split, culprit):
-    with pytest.raises(InputError, match=culprit):
-        length_compensation_coefficients(points, x_opt, split=split)
-
-
-# ------------------------------------------------------------------------------------------------ eq 17
-
-def test_nrmse_percent():
-    measured = np.array([0.0, 1.0, 2.0, 3.0])
-    assert nrmse_percent(measured, measured) == 0.0
-    assert nrmse_percent(measured, measured + 0.5) == pytest.approx(100.0 * 0.5 / 3.0)
-    assert nrmse_percent([1.0, 3.0], [2.0, 2.0]) == pytest.approx(50.0)
-
-
-@pytest.mark.parametrize("measured, simulated, culprit", [
-    ([0.0, 1.0, 2.0], [0.0, 1.0], "simulated"),
-    ([0.0, np.nan, 2.0], [0.0, 1.0, 2.0], "measured"),
-    ([0.0, 1.0, 2.0], [0.0, np.inf, 2.0], "simulated"),
-    ([2.0, 2.0, 2.0], [0.0, 1.0, 2.0], "zero range"),
-    ([], [], "measured"),
-])
-def test_nrmse_bad_inputs(measured, simulated, culprit):
-    with pytest.raises(InputError, match=culprit):
-        nrmse_percent(measured, simulated)
-
-
-# ------------------------------------------------------------------------------------ inverse Module 3
 
 def _activation(t_ms):
     """A known smooth activation between 0.05 and 0.55."""
@@ -234,3 +134,4 @@ def test_inverse_activation_bad_inputs(change, culprit):
     args.update(change)
     with pytest.raises(InputError, match=culprit):
         inverse_activation(**args)
+

@@ -1,12 +1,16 @@
-"""Summary measures of force traces: twitch peak, time to peak, half-relaxation, train plateaus."""
+"""Summary measures of force traces: twitch peak, time to peak, half-relaxation, train plateaus, and the
+NRMSE of a simulated trace against a measured one (eq 17)."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from typing import Sequence
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
+from ..validate import finite_series
 
 
 @dataclass(frozen=True)
@@ -52,3 +56,17 @@ def plateau(t_ms: np.ndarray, force_N: np.ndarray, start_ms: float, end_ms: floa
         raise InputError(f"no samples in the plateau window {start_ms}..{end_ms} ms")
     f = np.asarray(force_N)[sel]
     return float(f.mean()), float(f.min()), float(f.max())
+
+
+def nrmse_percent(measured: Sequence[float], simulated: Sequence[float]) -> float:
+    """Eq 17: 100 * RMS(measured - simulated) / (max(measured) - min(measured)), in % (any force unit)."""
+    m = finite_series("measured", measured)
+    s = finite_series("simulated", simulated)
+    if m.shape != s.shape:
+        raise InputError(f"simulated must match measured in shape, got {s.shape} and {m.shape}")
+    if m.size == 0:
+        raise InputError("measured is empty")
+    span = float(m.max() - m.min())
+    if span <= 0.0:
+        raise InputError("measured has zero range (constant): NRMSE is undefined")
+    return 100.0 * math.sqrt(float(np.mean((m - s) ** 2))) / span
