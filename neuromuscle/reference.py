@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from .analysis.module3 import ce_velocity, force_length
 from .protocols.lengths import LengthTrace
 from .parameters import ParameterSet
 
@@ -32,22 +33,6 @@ class ReferenceResult:
 
 def _phi(x: float, p: ParameterSet) -> float:
     return p["phi1"] * x + p["phi2"] if x <= p["g1"] else p["phi3"] * x + p["phi4"]
-
-
-def ce_velocity(F: float, Fc: float, p: ParameterSet, asym: float = 0.95, vmax: float = 1e5) -> float:
-    """CE velocity (mm/s) of eqs 10-11 at SE force F (N) and CE capacity Fc (N), with the Mashima asymptote
-    continued by its tangent beyond Fc + asym (Fa - Fc) and capped at vmax (as documented in KimForce)."""
-    if Fc <= 0.0:
-        return vmax if F > 0.0 else 0.0
-    if F <= Fc:
-        return -p["b0"] * (Fc - F) / (F + p["a0"] * Fc / p["P0"])
-    Fa = (2.0 + p["c0"] / p["P0"]) * Fc
-    Fl = Fc + asym * (Fa - Fc)
-    if F <= Fl:
-        return -p["d0"] * (Fc - F) / (2.0 * Fc - F + p["c0"] * Fc / p["P0"])
-    vl = p["d0"] * (Fl - Fc) / (Fa - Fl)
-    sl = p["d0"] * (Fa - Fc) / (Fa - Fl) ** 2
-    return min(vl + sl * (F - Fl), vmax)
 
 
 def activation(atil: float, t: float, x: float, v: float, p: ParameterSet, movcomp: bool,
@@ -84,7 +69,7 @@ def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: Le
     tau = p["C3"] / np.cosh((xt - p["C4"]) / (2.0 * p["C5"]))
     A = activation(At, t, x, v, p, movcomp, trace.onset_ms)
     F = p["P0"] * p["KSE"] * max(ext, 0.0)
-    Fc = p["P0"] * np.exp(-(((x - p["g1"]) / p["g2"]) ** 2)) * A
+    Fc = float(force_length(x, p["g1"], p["g2"], p["P0"])) * A
     # the SE extension Xm - XCE (mm) is the state here: it resolves the tiny forces at rest that an
     # absolute CE length (~ -8 mm) would hide below the tolerance
     return [-sr - R + U, sr, -st - sb + R - U, sb, st, (ainf - At) / tau, (v - ce_velocity(F, Fc, p)) / 1000.0]

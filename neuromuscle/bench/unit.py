@@ -79,7 +79,6 @@ def time_run(scheme: str, params: ParameterSet, spikes_ms: np.ndarray, duration_
     wall = Simulator(method="fixed", dt_ms=dt_ms).run(duration_ms)
     if scheme == "published" and any(r.overflow for r in receivers):
         raise NumericalError("KimPublished: spike history (10000) overflowed; shorten the benchmark")
-    del fih, ncs, keep
     f = np.array(fv)
     return wall, np.arange(f.size) * dt_ms, f
 

@@ -43,7 +43,7 @@ import matplotlib
 import numpy as np
 
 from ..errors import InputError
-from ..provenance import versions
+from ..sim.provenance import versions
 from ..reports.outdir import check_out_dir, prepare_out_dir, write_text
 from .contraction import DEFAULT_STEP_S
 from .data import load_twitch

@@ -39,6 +39,10 @@ class ParameterSet(Mapping[str, float]):
             if q in checked:
                 raise InputError(f"{where}: parameter {q} given twice (as {k!r} and its other name)")
             checked[q] = reg[q].check(v, where)
+        kim = set(reg.aliases.values())
+        if kim & set(checked) and not kim <= set(checked):
+            missing = [reg.alias(q) for q in reg.aliases.values() if q not in checked]
+            raise InputError(f"{where} lacks {', '.join(missing)} (a set of the Kim modules names all of them)")
         object.__setattr__(self, "values", checked)
 
     def __getitem__(self, key: str) -> float:

@@ -36,7 +36,8 @@ class ParameterSpec:
         """The value as a float inside the range; InputError naming the parameter, value, range and fix."""
         from ..model.component import Param
 
-        return Param(self.name, self.unit, self.default, self.lower, self.upper, self.doc, self.source,
+        shown = registry().alias(self.name)  # the name the user most likely typed
+        return Param(shown, self.unit, self.default, self.lower, self.upper, self.doc, self.source,
                      self.lower_inclusive).check(value, where)
 
 

@@ -4,7 +4,9 @@ import json
 
 import h5py
 
-from neuromuscle.bench import bench_unit
+import math
+
+from neuromuscle.bench.unit import bench_unit
 from neuromuscle.cli import main
 
 
@@ -17,7 +19,7 @@ def test_simulate_writes_hdf5_and_png(tmp_path, capsys):
     with h5py.File(out, "r") as f:
         prov = json.loads(f.attrs["provenance"])
         assert prov["protocol"] == {"protocol": "train", "rate_hz": 20.0, "start_ms": 500.0, "train_ms": 300.0}
-        assert f["force_N"][()].max() > 5.0
+        assert f["traces/force.F"][()].max() > 5.0
     assert "peak force" in capsys.readouterr().out
     # an existing output is not overwritten
     assert main(["simulate", "--duration-ms", "600", "--out", str(out)]) == 2
@@ -30,7 +32,7 @@ def test_simulate_random_length_is_seeded(tmp_path):
         assert main(["simulate", "--protocol", "random-train", "--length", "random", "--seed", "4",
                      "--duration-ms", "800", "--train-ms", "600", "--movement-compensation", "--out", str(p)]) == 0
     with h5py.File(a, "r") as fa, h5py.File(b, "r") as fb:
-        assert (fa["force_N"][()] == fb["force_N"][()]).all()
+        assert (fa["traces/force.F"][()] == fb["traces/force.F"][()]).all()
         assert json.loads(fa.attrs["provenance"])["length_protocol"] == {"length": "random", "seed": 4}
 
 
@@ -40,15 +42,15 @@ def test_bad_parameter_set_exits_2(tmp_path, capsys):
 
 
 def test_bench_unit_reports_both_schemes_and_accuracy(ct09):
-    res = bench_unit(ct09, duration_ms=300.0, repeats=1, pool_units=2)
+    res = bench_unit(ct09, duration_ms=300.0, repeats=1, pool_units=2, full=True)
     for key in ("single_ours_s_per_unit_s_1hz", "single_published_s_per_unit_s_100hz", "pool_speedup_100hz",
                 "single_ours_100hz_over_1hz"):
-        assert res[key] > 0
+        assert math.isfinite(res[key])  # timings are reported, never asserted
     assert res["ours_twitch_peak_error_pct"] < 0.5 and res["published_twitch_peak_error_pct"] < 0.5
 
 
 def test_standard_synthetic_fit_set(ct09):
-    from neuromuscle.bench import synthetic_module2_set
+    from neuromuscle.bench.fit import synthetic_module2_set
 
     trials = synthetic_module2_set(ct09)
     assert [t.trial_id for t in trials] == ["twitch", "train10", "train20", "train40"]

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from neuromuscle.errors import InputError
-from neuromuscle.length import LengthTrace
+from neuromuscle.protocols import LengthTrace
 from neuromuscle.protocols import (constant_rate, isokinetic_ramp, isometric, random_interval, random_length,
                                    step_shortening, twitch)
 

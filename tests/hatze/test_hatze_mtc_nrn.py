@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from neuromuscle import load_mechanisms
-from neuromuscle.unit import _NeuronRun
+from neuromuscle import Simulator
 from neuromuscle.hatze.contraction import (equilibrium_phi_ce, moment_rise_time_s, release_profile,
                                            see_extension_at_test, simulate_release,
                                            simulate_active_state_drive, simulate_isometric)
@@ -29,9 +29,9 @@ def h():
     return hh
 
 
-def _Run(h, method, dt_ms=0.025, atol=1e-6, rtol=1e-8):
-    """The package's run context (sets and restores NEURON's integrator; CVODE tolerances per state)."""
-    return _NeuronRun(method, dt_ms, atol, rtol)
+def _run(method, duration_ms, dt_ms=0.025, atol=1e-6, rtol=1e-8):
+    """The package's Simulator (sets and restores NEURON's integrator; CVODE tolerances per state)."""
+    Simulator(method=method, dt_ms=dt_ms, atol=atol, rtol=rtol).run(duration_ms)
 
 
 def _set_subject(mtc, subject):
@@ -71,9 +71,7 @@ def run_stimulated(h, stims_s, t_end_s, subject, theta, method, length_dependent
     recs["phi"].record(mtc._ref_phi_ce, REC_MS)
     recs["q"].record(exc._ref_A, REC_MS)
     try:
-        with _Run(h, method, dt_ms=dt_ms):
-            h.finitialize()
-            h.continuerun(t_end_s * 1000.0)
+        _run(method, t_end_s * 1000.0, dt_ms=dt_ms)
         out = {k: np.array(v) for k, v in recs.items()}
         assert mtc.nbad == 0 and mtc.noeq == 0
     finally:
@@ -101,9 +99,7 @@ def run_constant_activation(h, q, t_end_s, subject, q_initial, method, offset_ra
     rec = h.Vector()
     rec.record(mtc._ref_M, REC_MS)
     try:
-        with _Run(h, method, dt_ms=dt_ms):
-            h.finitialize()
-            h.continuerun(t_end_s * 1000.0)
+        _run(method, t_end_s * 1000.0, dt_ms=dt_ms)
         m = np.array(rec)
     finally:
         del fih, rec, mtc, holder, sec
@@ -163,11 +159,10 @@ def test_initial_state_is_isometric_equilibrium(h, subject3):
     mtc.phi_mtc_offset = off
     h.setpointer(holder._ref_xm, "act", mtc)
     try:
-        with _Run(h, "fixed"):
-            h.finitialize()
-            phi0, m0, om0, e_test = mtc.phi_ce, mtc.M, mtc.omega_ce, mtc.e_test
-            h.continuerun(20.0)
-            phi1 = mtc.phi_ce
+        h.finitialize()  # the state NEURON's initialisation gives, before any step
+        phi0, m0, om0, e_test = mtc.phi_ce, mtc.M, mtc.omega_ce, mtc.e_test
+        _run("fixed", 20.0)
+        phi1 = mtc.phi_ce
     finally:
         del mtc, holder, sec
         gc.collect()
@@ -216,9 +211,7 @@ def test_release_by_played_mtc_angle_matches_python(h, subject3, method):
     rec = h.Vector()
     rec.record(mtc._ref_M, REC_MS)
     try:
-        with _Run(h, method):
-            h.finitialize()
-            h.continuerun(300.0)
+        _run(method, 300.0)
         m = np.array(rec)
     finally:
         ovec.play_remove()

@@ -20,11 +20,13 @@ def exact():
 def test_active_state_matches_exact_solution(ct09, exact, method, tol):
     t_s, _, gamma, q = exact
     r = simulate(ct09, STIMS_S * 1000.0, -8.0, 400.0, method=method, record_dt_ms=0.1, excitation="hatze",
-                 rtol=1e-8)
+                 rtol=1e-8, record=("force.F", "act.A", "act.g"))
     n = min(r.A.size, q.size)
     assert np.max(np.abs(r.A[:n] - q[:n])) < tol * q.max()
-    assert np.max(np.abs(r.atil[:n] - gamma[:n])) < 2 * tol * gamma.max()  # gamma is recorded as atil
-    assert r.settings["excitation"] == "hatze" and r.ca_M == {}
+    assert np.max(np.abs(r["act.g"][:n] - gamma[:n])) < 2 * tol * gamma.max()  # gamma (s^4), by its name
+    assert r.settings["model"]["act"]["component"] == "HatzeExcitation" and r.ca_M == {}
+    with pytest.raises(InputError, match="no trace 'act.atil'"):
+        r.atil  # Hatze's excitation has no Atil: nothing else is passed off under that name
 
 
 def test_hatze_activation_drives_module_3(ct09):
@@ -52,7 +54,7 @@ def test_trend_mechanism_matches_exact_solution_and_drives_module_3(ct09):
 
     from neuromuscle import MuscleUnit
     from neuromuscle.hatze.excitation import active_state, trend_gamma
-    from neuromuscle.unit import _NeuronRun
+    from neuromuscle import Simulator
 
     th = load_theta()
     with MuscleUnit(ct09, excitation="hatze", name="trend") as unit:
@@ -64,9 +66,7 @@ def test_trend_mechanism_matches_exact_solution_and_drives_module_3(ct09):
         tv = h.Vector([0.0, 100.0, 100.0, 1100.0, 1100.0, 1600.0])
         nu.play(tr._ref_nu, tv, 1)
         g, f = h.Vector().record(tr._ref_g, 1.0), h.Vector().record(unit.force._ref_F, 1.0)
-        with _NeuronRun("fixed", 0.025, 0, 0) as hh:
-            hh.finitialize()
-            hh.continuerun(1600.0)
+        Simulator(dt_ms=0.025).run(1600.0)
         nu.play_remove()
         g, f = np.array(g), np.array(f)
         del tr
@@ -83,7 +83,7 @@ def test_kim_activation_drives_the_angular_complex(ct09):
     from neuron import h
 
     from neuromuscle import MuscleUnit
-    from neuromuscle.unit import _NeuronRun
+    from neuromuscle import Simulator
 
     with MuscleUnit(ct09, name="kim_mtc") as unit:
         unit.length.xm = -8.0
@@ -93,9 +93,7 @@ def test_kim_activation_drives_the_angular_complex(ct09):
         unit.prepare()
         m = h.Vector().record(mtc._ref_M, 1.0)
         a = h.Vector().record(unit.act._ref_A, 1.0)
-        with _NeuronRun("fixed", 0.025, 0, 0) as hh:
-            hh.finitialize()
-            hh.continuerun(900.0)
+        Simulator(dt_ms=0.025).run(900.0)
         m, a = np.array(m), np.array(a)
         mmax = mtc.Mmax
         del mtc
@@ -109,7 +107,7 @@ def test_models_are_picked_by_name(ct09, excitation):
     from neuron import h
 
     from neuromuscle import MuscleUnit
-    from neuromuscle.unit import _NeuronRun
+    from neuromuscle import Simulator
 
     peaks = {}
     for contraction in ("kim", "hatze"):
@@ -117,12 +115,10 @@ def test_models_are_picked_by_name(ct09, excitation):
             unit.length.xm = -8.0
             unit.add_spike_times(np.arange(100.0, 400.0, 50.0))
             unit.prepare()
-            out = h.Vector().record(unit.output_ref, 1.0)
-            with _NeuronRun("fixed", 0.025, 0, 0) as hh:
-                hh.finitialize()
-                hh.continuerun(500.0)
+            out = h.Vector().record(unit.ref(unit.output), 1.0)
+            Simulator(dt_ms=0.025).run(500.0)
             peaks[contraction] = (unit.output, float(np.array(out).max()))
-    assert peaks["kim"][0] == "F" and peaks["hatze"][0] == "M"
+    assert peaks["kim"][0] == "force.F" and peaks["hatze"][0] == "force.M"
     assert peaks["kim"][1] > 1.0 and peaks["hatze"][1] > 1.0
     with pytest.raises(InputError, match="contraction must be"):
         MuscleUnit(ct09, contraction="huxley")
