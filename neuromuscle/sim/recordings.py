@@ -11,9 +11,15 @@ from ..errors import InputError
 
 
 class Recorder:
-    """Vectors recording the named variables of one unit every ``record_dt_ms`` (ms) from t = 0."""
+    """Vectors recording the named variables of one unit every ``record_dt_ms`` (ms) from t = 0.
 
-    def __init__(self, unit: Any, names: Sequence[str], record_dt_ms: float) -> None:
+    With ``every_step_dt_ms`` (the fixed step, ms) NEURON records every step and the samples are taken every
+    record_dt_ms afterwards: with more than one thread, NEURON 9's interval recording samples the variables of
+    the second thread at the wrong moments (measured in tests/model/test_unit.py), stepwise recording does not.
+    """
+
+    def __init__(self, unit: Any, names: Sequence[str], record_dt_ms: float,
+                 every_step_dt_ms: float | None = None) -> None:
         from neuron import h
 
         if len(set(names)) != len(names):
@@ -27,12 +33,23 @@ class Recorder:
         self.record_dt_ms = record_dt_ms
         # time itself is not recorded (a record of t belongs to no thread): samples are at k * record_dt_ms
         self._vectors = {n: h.Vector() for n in names}
+        self._stride = 1
+        if every_step_dt_ms is not None:
+            self._stride = max(1, int(round(record_dt_ms / every_step_dt_ms)))
+            if abs(self._stride * every_step_dt_ms - record_dt_ms) > 1e-9 * record_dt_ms:
+                raise InputError(f"record_dt_ms = {record_dt_ms} ms must be a multiple of dt_ms = "
+                                 f"{every_step_dt_ms} ms when NEURON runs on several threads")
         for n, v in self._vectors.items():
-            v.record(unit.ref(n), record_dt_ms)
+            # the point process first: it tells NEURON which thread owns the variable
+            owner = unit[n.partition(".")[0]].obj
+            if every_step_dt_ms is None:
+                v.record(owner, unit.ref(n), record_dt_ms)
+            else:
+                v.record(owner, unit.ref(n))
 
     def arrays(self, duration_ms: float) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         """Sample times (ms) and the recorded traces, all of the same length."""
-        out = {k: np.array(v) for k, v in self._vectors.items()}
+        out = {k: np.array(v)[::self._stride] for k, v in self._vectors.items()}
         n = min(len(v) for v in out.values())
         out = {k: v[:n] for k, v in out.items()}
         return np.arange(n) * self.record_dt_ms, out

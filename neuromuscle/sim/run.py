@@ -82,7 +82,9 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
     if not trace.is_isometric:
         xvec.play(unit.length._ref_xm, tvec, 1)
         vvec.play(unit.length._ref_vm, tvec, 1)
-    recorder = Recorder(unit, list(record) if record is not None else default_recordings(unit), record_dt_ms)
+    names = list(record) if record is not None else default_recordings(unit)
+    stepwise = sim.dt_ms if sim.nthread > 1 and sim.method == "fixed" else None
+    recorder = Recorder(unit, names, record_dt_ms, every_step_dt_ms=stepwise)
     try:
         sim.run(duration_ms, units=[unit], cvode_events_ms=movement_events)
     finally:

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from neuromuscle import InputError, LengthTrace, MuscleUnit, load_parameters, mechanism_hash, simulate
-from neuromuscle.protocols import twitch
+from neuromuscle.protocols import constant_rate, twitch
 from neuromuscle.sim import load_result
 from neuromuscle import Simulator, kim_excitation
 
@@ -65,13 +65,28 @@ def test_destroy_removes_the_unit_from_neuron(ct09):
 def test_simulations_do_not_leak_neuron_state(ct09):
     from neuron import h
 
-    h.dt = 0.1
-    before = (len(list(h.allsec())), h.List("KimCa").count(), h.List("NetCon").count(), h.dt)
-    a = simulate(ct09, twitch(100.0), -8.0, 300.0, method="cvode")
+    from neuromuscle.model import hatze, kim
+
+    h.load_file("stdrun.hoc")
+    cv, pc = h.CVode(), h.ParallelContext()
+    h.dt, h.steps_per_ms, h.secondorder = 0.1, 10.0, 2
+    cv.atol(1e-4)
+    cv.rtol(1e-5)
+    states = [f"{c.suffix}.{st.name}" for c in (*kim.COMPONENTS, *hatze.COMPONENTS) for st in c.states]
+    for name in states:
+        cv.atolscale(name, 0.5)
+
+    def settings():
+        return (len(list(h.allsec())), h.List("KimCa").count(), h.List("NetCon").count(), h.dt, h.steps_per_ms,
+                h.secondorder, cv.active(), cv.atol(), cv.rtol(), pc.nthread(),
+                tuple(cv.atolscale(n) for n in states))
+
+    before = settings()
+    a = simulate(ct09, twitch(100.0), -8.0, 300.0, method="cvode", atol=1e-3, rtol=1e-6)
     b = simulate(ct09, twitch(100.0), -8.0, 300.0)
-    after = (len(list(h.allsec())), h.List("KimCa").count(), h.List("NetCon").count(), h.dt)
-    assert before == after
-    assert h.CVode().active() == 0
+    assert settings() == before  # dt, CVODE, atol, rtol, atolscale (14+ states), nthread all restored
+    Simulator(method="cvode", nthread=2).run(10.0)
+    assert settings() == before
     c = simulate(ct09, twitch(100.0), -8.0, 300.0)
     np.testing.assert_array_equal(b.force_N, c.force_N)  # a run after a CVODE run is unchanged
     assert a.force_N.max() > 0
@@ -152,15 +167,35 @@ def test_mashima_asymptote_is_reported(ct09):
     assert any("Mashima asymptote" in w for w in r.warnings)
 
 
-def test_mechanisms_run_multithreaded_with_identical_results(ct09):
-    """NEURON refuses threads for mechanisms that are not thread safe; with two threads the result is the same."""
+def test_units_spread_over_sections_run_on_two_threads_with_identical_results(ct09):
+    """Four units on four sections: with 2 threads NEURON gives each thread two of them (both threads work);
+    every unit's force, recorded every step, equals the one-thread run bit for bit."""
     from neuron import h
 
-    one = simulate(ct09, twitch(50.0), -8.0, 250.0)
+    spikes = [twitch(50.0), constant_rate(20, 200.0, start_ms=20.0), constant_rate(40, 150.0, start_ms=30.0),
+              twitch(80.0)]
+
     pc = h.ParallelContext()
-    pc.nthread(2)
-    try:
-        two = simulate(ct09, twitch(50.0), -8.0, 250.0)
-    finally:
-        pc.nthread(1)
-    np.testing.assert_array_equal(one.force_N, two.force_N)
+
+    def run(nthread):
+        units = [MuscleUnit(ct09, name=f"thr{i}") for i in range(4)]
+        try:
+            vecs = []
+            for u, s in zip(units, spikes):
+                u.length.xm = -8.0
+                u.add_spike_times(s)
+                vecs.append(h.Vector().record(u.force, u.ref("force.F")))
+            pc.nthread(nthread)
+            Simulator(dt_ms=0.025, nthread=nthread).run(250.0, units=units)
+            per_thread = [len(list(pc.get_partition(i))) for i in range(nthread)]
+            return [np.array(v) for v in vecs], per_thread
+        finally:
+            pc.nthread(1)
+            for u in units:
+                u.destroy()
+
+    one, _ = run(1)
+    two, per_thread = run(2)
+    assert per_thread == [2, 2]  # both threads integrate units
+    for a, b in zip(one, two):
+        np.testing.assert_array_equal(a, b)
