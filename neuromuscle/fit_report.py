@@ -25,7 +25,7 @@ import numpy as np
 
 from .calibration import MODULE2_FREE, StagedCalibration, staged_calibration
 from .errors import InputError
-from .fitting import FitProblem, FitResult, SimulationOptions, fit, trial_simulation
+from .fit import FitProblem, FitResult, SimulationOptions, fit, trial_simulation
 from .identification import nrmse_percent
 from .measured import MeasuredData, Trial, read_measured
 from .parameters import SPECS, ParameterSet, load_parameters

@@ -48,7 +48,7 @@ from ..provenance import versions
 from .contraction import DEFAULT_STEP_S, moment_rise_time_s, simulate_active_state_drive
 from .excitation import (NU_REFERENCE_RATE_HZ, excitation_states, fit_trend_to_full_model, train_times,
                          trend_active_state_rise_time_s, trend_gamma)
-from .fitting import SEED_TRAIN_RATES_HZ, TwitchFit, fit_twitch, predict_trains, twitch_moment
+from .twitch_fit import SEED_TRAIN_RATES_HZ, TwitchFit, fit_twitch, predict_trains, twitch_moment
 from .parameters import (THETA_NAMES, THETA_UNITS, ActiveStateConstants, ExcitationTheta, Subject, check_positive,
                          load_subject, load_subjects, load_theta, load_theta_intervals, load_trend_table)
 
