@@ -1,7 +1,7 @@
 """Evaluation of candidates: one measured trial -> simulated force, and the map over candidate parameter vectors.
 
 * **Simulation of a trial** (:func:`trial_simulation`): the trial's clock (s) becomes the simulation clock (ms)
-  with ``time_s[0]`` at ``settle_ms`` (default 500 ms, spec: A starts at 0 and must settle before the first
+  with ``time_s[0]`` at ``settle_ms`` (default 500 ms, spec: Ã starts at 0 and must settle before the first
   stimulus).  During the settling period the length is held at the trial's first length.  The force is recorded
   every ``record_dt_ms`` (default: every step) and linearly interpolated at the trial's samples.  Trials must
   be in N and mm (the model's units): joint moments / angles are refused.

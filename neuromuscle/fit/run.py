@@ -145,8 +145,10 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     r = problem.residuals_from(sims)
     tracker.best_z, tracker.best_cost = z, float(r @ r)
     tracker.write(final=True)
-    unc = estimate_uncertainty(problem.free, z, jac, r, lambda zz: np.array(list(problem.to_values(zz).values())),
-                               problem.dp_dz(z), Rules.for_fit(ident_rcond, max_rel_se))
+    def to_p(zz: np.ndarray) -> np.ndarray:
+        return np.array(list(problem.to_values(zz).values()))
+
+    unc = estimate_uncertainty(problem.free, z, jac, r, to_p, problem.dp_dz(z), Rules.for_fit(ident_rcond, max_rel_se))
     return FitResult(
         parameters=problem.parameters(z), uncertainty=unc, cost=float(r @ r),
         nrmse_percent={t.trial_id: nrmse_percent(t.force, s) for t, s in zip(problem.trials, sims)},

@@ -38,8 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
-from ..fit.optimizers import levenberg_marquardt
-from ..fit.uncertainty import Rules, Uncertainty, estimate_uncertainty
+from ..fit import Rules, Uncertainty, estimate_uncertainty, levenberg_marquardt
 from .contraction import (DEFAULT_STEP_S, TEST_JOINT_ANGLE_RAD, IsometricTrace, simulate_isometric,
                           simulate_isometric_solution)
 from .excitation import check_stim_times, train_times
@@ -54,7 +53,7 @@ SEED_TRAIN_RATES_HZ: tuple[float, ...] = (4.0, 8.0, 12.0, 16.0, 24.0)
 class TwitchFit:
     """Result of ``fit_twitch``.
 
-    ``theta``: estimates (frozen ones as given); ``uncertainty``: intervals, VIFs, correlation (of ln theta) and
+    ``theta``: estimates (frozen ones as given); ``uncertainty``: intervals, VIFs, correlation and
     identifiability flags of the free parameters; ``rms_nm``: residual RMS (N m); ``n_evaluations``;
     ``message`` (why the iteration stopped); ``frozen``: parameters held fixed.  ``lower``, ``upper``,
     ``poorly_identified`` and ``vif`` list all five parameters, a frozen one with its value as interval, VIF nan,
