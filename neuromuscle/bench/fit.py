@@ -12,7 +12,7 @@ from ..parameters import ParameterSet
 def synthetic_module2_set(params: ParameterSet, noise_N: float = 0.02, seed: int = 0) -> list:
     """The standard synthetic calibration set: a twitch and 10/20/40 Hz 0.5 s trains at the optimum (g1),
     1 ms samples over 0.9 s, simulated with ``params`` plus Gaussian noise (sd noise_N, N) from ``seed``."""
-    from ..fitting import trial_simulation
+    from ..fit import trial_simulation
     from ..measured import Trial
 
     rng = np.random.default_rng(seed)
@@ -34,7 +34,7 @@ def bench_fit(params: ParameterSet, free: tuple[str, ...] = ("C1", "C2", "C3", "
     """Module 2 calibration on ``synthetic_module2_set``: wall time (s) and simulations, serial and in
     parallel, starting every free parameter at start_factor times its true value; checks that the parallel
     estimates equal the serial ones."""
-    from ..fitting import FitProblem, SimulationOptions, fit
+    from ..fit import FitProblem, SimulationOptions, fit
 
     trials = synthetic_module2_set(params)
     problem = FitProblem(trials, params, list(free), start={n: params[n] * start_factor for n in free},

@@ -77,6 +77,7 @@ def time_run(scheme: str, params: ParameterSet, spikes_ms: np.ndarray, duration_
     if record:
         fv.record(forces[0]._ref_F, dt_ms)
     wall = Simulator(method="fixed", dt_ms=dt_ms).run(duration_ms)
+    del fih  # the handler queued the spikes at initialisation
     if scheme == "published" and any(r.overflow for r in receivers):
         raise NumericalError("KimPublished: spike history (10000) overflowed; shorten the benchmark")
     f = np.array(fv)

@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from .contraction import DEFAULT_STEP_S
-from .fitting import twitch_moment
+from .twitch_fit import twitch_moment
 from .parameters import ExcitationTheta, Subject
 
 #: Columns a twitch CSV must have.

@@ -16,7 +16,7 @@ from .contraction import simulate_active_state_drive
 from .data import Twitch
 from .excitation import (NU_REFERENCE_RATE_HZ, TrendFit, active_state_of_x, excitation_states, train_times,
                          trend_gamma)
-from .fitting import TrainPrediction
+from .twitch_fit import TrainPrediction
 from .parameters import ActiveStateConstants, ExcitationTheta, Subject
 
 #: Figures written by :func:`write_figures`, in this order.

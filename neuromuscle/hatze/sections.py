@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 from .contraction import moment_rise_time_s
 from .data import Twitch
 from .excitation import NU_REFERENCE_RATE_HZ, TrendFit, fit_trend_to_full_model, trend_active_state_rise_time_s
-from .fitting import SEED_TRAIN_RATES_HZ, TrainPrediction, TwitchFit, fit_twitch, predict_trains, twitch_moment
+from .twitch_fit import SEED_TRAIN_RATES_HZ, TrainPrediction, TwitchFit, fit_twitch, predict_trains, twitch_moment
 from .parameters import (THETA_NAMES, THETA_UNITS, ExcitationTheta, Subject, load_subjects, load_theta_intervals,
                          load_trend_table)
 
@@ -50,7 +50,7 @@ def fit_section(twitch: Twitch, subj: Subject, table2: ExcitationTheta, start_fa
                      "frozen": n in fit.frozen, "poorly_identified": fit.poorly_identified[n], "vif": fit.vif[n],
                      "seed": {"value": iv.value, "lower": iv.lower, "upper": iv.upper},
                      "inside_seed_interval": iv.contains(est)}
-    sec = {"method": "Levenberg-Marquardt in ln theta, Jacobian from sensitivity equations (fitting.fit_twitch)",
+    sec = {"method": "Levenberg-Marquardt in ln theta, Jacobian from sensitivity equations (twitch_fit.fit_twitch)",
            "parameters": params, "rms_residual_nm": fit.rms_nm, "n_evaluations": fit.n_evaluations,
            "stop_message": fit.message, "frozen": list(fit.frozen),
            "singular_values_dM_dlntheta_nm": sv,

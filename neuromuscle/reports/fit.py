@@ -9,7 +9,7 @@ Writes into DIR:
 * ``summary.md``   the same as a readable table, plus the stages of ``--staged``,
 * ``figures/<trial>.png``  measured vs simulated force and the residual, per fitted trial.
 
-Default mode: one :func:`~neuromuscle.fitting.fit` of the ``--free`` parameters (default C1, C2, C3, alpha)
+Default mode: one :func:`~neuromuscle.fit.fit` of the ``--free`` parameters (default C1, C2, C3, alpha)
 to every stimulated trial in N and mm (or ``--trials``).  ``--staged``: the seed's staged calibration
 (:func:`~neuromuscle.calibration.staged_calibration`); the intervals are those of its Module 2 stage, and the
 figures/NRMSE use the final parameters.
@@ -25,7 +25,7 @@ import numpy as np
 
 from ..calibration import MODULE2_FREE, StagedCalibration, staged_calibration
 from ..errors import InputError
-from ..fitting import FitProblem, FitResult, SimulationOptions, fit, trial_simulation
+from ..fit import FitProblem, FitResult, SimulationOptions, fit, trial_simulation
 from ..analysis.metrics import nrmse_percent
 from ..measured import MeasuredData, Trial, read_measured
 from ..parameters import SPECS, ParameterSet, load_parameters

@@ -6,7 +6,7 @@ import h5py
 import numpy as np
 import pytest
 
-from neuromuscle import InputError, LengthTrace, MuscleUnit, load_parameters, mechanism_hash, simulate
+from neuromuscle import InputError, LengthTrace, MuscleUnit, mechanism_hash, simulate
 from neuromuscle.protocols import constant_rate, twitch
 from neuromuscle.sim import load_result
 from neuromuscle import Simulator, kim_excitation

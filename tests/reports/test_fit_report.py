@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "calibration"))
 
-from test_calibration import synthetic_data  # noqa: E402
+from calibration_synthetic import synthetic_data  # noqa: E402
 
 from neuromuscle.cli import main  # noqa: E402
 from neuromuscle.measured import write_measured  # noqa: E402

@@ -1,0 +1,116 @@
+"""The staged calibration of seed 001 (section 2.2.2), each stage usable alone.
+
+Order of the seed: Module 1 is adopted (Westerblad & Allen); Module 3 from three kinds of data
+(KSE from a step shortening, g1/g2 (and P0) from isometric force-length points, a0..d0 from velocity-tension
+points); then Module 2 (C1..C5, alpha) against twitches and sub-tetanic trains at the optimal length; finally
+the length compensation phi1..phi4 (eq 18) from twitches at several lengths.
+
+:func:`staged_calibration` chains the stages on one :class:`~neuromuscle.measured.MeasuredData` and skips, with
+the reason, any stage whose data are absent.  Where the point data live in a measured-data file (extra
+datasets, allowed by the layout):
+
+* ``/calibration/force_length``   (n, 2): length Xm (mm), isometric tetanic force (N), at full activation.
+* ``/calibration/force_velocity`` (n, 2): velocity (mm/s, + lengthening), tension (N), full activation at the
+  optimum.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from ..errors import InputError
+from ..fit import SimulationOptions
+from ..measured import MeasuredData
+from ..parameters import ParameterSet
+from .length_compensation import calibrate_length_compensation, twitch_trials
+from .module2 import MODULE2_FREE, calibrate_module2, module2_trials
+from .module3 import calibrate_force_length, calibrate_force_velocity, calibrate_kse
+from .stage import StageResult
+from .trials import in_model_units, isometric_length
+
+FORCE_LENGTH_PATH = "/calibration/force_length"
+FORCE_VELOCITY_PATH = "/calibration/force_velocity"
+
+
+@dataclass
+class StagedCalibration:
+    """All stages in order and the final parameter set."""
+
+    parameters: ParameterSet
+    stages: list[StageResult]
+
+    def stage(self, name: str) -> StageResult:
+        """The stage called ``name`` (KeyError if absent)."""
+        for s in self.stages:
+            if s.stage == name:
+                return s
+        raise KeyError(name)
+
+    def summary(self) -> str:
+        return "\n".join(s.summary() for s in self.stages)
+
+
+def _points_from(data: MeasuredData, path: str) -> np.ndarray | None:
+    arr = data.extra_datasets.get(path)
+    if arr is None:
+        return None
+    a = np.asarray(arr, dtype=float)
+    if a.ndim != 2 or a.shape[1] != 2:
+        raise InputError(f"{path}: expected an (n, 2) dataset, got shape {a.shape}")
+    return a
+
+
+def staged_calibration(data: MeasuredData, base_params: ParameterSet, *, module2_free: Sequence[str] = MODULE2_FREE,
+                       options: SimulationOptions | None = None, workers: int = 1, max_iterations: int = 30,
+                       progress: bool = False, name: str | None = None) -> StagedCalibration:
+    """Module 3 (force-length, force-velocity, KSE) -> Module 2 -> length compensation, on whatever ``data``
+    holds; a stage without its data is skipped with the reason (the base values stay)."""
+    params = base_params
+    stages: list[StageResult] = []
+    fl = _points_from(data, FORCE_LENGTH_PATH)
+    if fl is None:
+        stages.append(StageResult("force-length", skipped=f"no {FORCE_LENGTH_PATH} points"))
+    else:
+        r = calibrate_force_length(fl[:, 0], fl[:, 1])
+        params = params.with_values(**r.values)
+        stages.append(r)
+    fv = _points_from(data, FORCE_VELOCITY_PATH)
+    if fv is None:
+        stages.append(StageResult("force-velocity", skipped=f"no {FORCE_VELOCITY_PATH} points"))
+    else:
+        r = calibrate_force_velocity(fv[:, 0], fv[:, 1], params["P0"])
+        params = params.with_values(**r.values)
+        stages.append(r)
+    steps = [t for t in data.trials.values() if t.protocol == "step" and t.length is not None and in_model_units(t)]
+    if not steps:
+        stages.append(StageResult("KSE", skipped="no step-shortening trial (protocol 'step' with a length trace)"))
+    else:
+        rs = [calibrate_kse(t, params["P0"]) for t in steps]
+        kse = float(np.mean([r.values["KSE"] for r in rs]))
+        r = StageResult("KSE", {"KSE": kse}, {**rs[0].errors, "n_trials": float(len(rs)),
+                                              "spread": float(np.ptp([r.values["KSE"] for r in rs]))},
+                        [t.trial_id for t in steps], rs[0].notes + (["mean over trials"] if len(rs) > 1 else []))
+        params = params.with_values(KSE=kse)
+        stages.append(r)
+    m2 = module2_trials(data, params["g1"])
+    if not m2:
+        stages.append(StageResult("module2", skipped=f"no isometric stimulated trial at g1 = {params['g1']:g} mm"))
+    else:
+        r = calibrate_module2(data, params, [t.trial_id for t in m2], free=module2_free, options=options,
+                              workers=workers, max_iterations=max_iterations, progress=progress)
+        params = params.with_values(**r.values)
+        stages.append(r)
+    tw = twitch_trials(data)
+    n_len = len({round(isometric_length(t), 9) for t in tw})
+    if n_len < 2:
+        stages.append(StageResult("length-compensation", skipped=f"twitches at {n_len} length(s); >= 2 needed"))
+    else:
+        r = calibrate_length_compensation(data, params, [t.trial_id for t in tw], options=options)
+        params = params.with_values(**r.values)
+        stages.append(r)
+    final = ParameterSet(name or f"{base_params.name}-calibrated", params.values,
+                         f"staged calibration from {base_params.name} on {data.path or 'data in memory'}")
+    return StagedCalibration(final, stages)

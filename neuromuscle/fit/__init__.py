@@ -1,0 +1,26 @@
+"""Fit parameters of the three-module muscle to measured trials (seed 000 eq 5: sum of squared force errors).
+
+Reads like the experiment::
+
+    data = read_measured("cat_soleus.h5")
+    problem = FitProblem(list(data.trials.values()), base=load_parameters("CT09"), free=["C1", "C3"])
+    result = fit(problem, workers=2, checkpoint="fit.json")
+    result.parameters.save("fitted.json"); result.summary()
+
+Modules, one decision each: ``problem`` (what to fit), ``evaluate`` (a trial's simulation; serial == parallel
+map), ``transforms`` (search space and default bounds), ``objectives`` (sse / nrmse), ``optimizers``
+(trust region, PRAXIS, Levenberg-Marquardt), ``uncertainty`` (intervals and identifiability, shared with the
+Hatze twitch fit), ``checkpoint`` (progress, checkpoint, resume), ``run`` (``fit`` and ``FitResult``).
+"""
+
+from .checkpoint import CHECKPOINT_SCHEMA, read_checkpoint
+from .evaluate import SimulationOptions, trial_simulation
+from .objectives import OBJECTIVES
+from .optimizers import LMResult, levenberg_marquardt
+from .problem import FitProblem
+from .run import METHODS, FitResult, fit
+from .uncertainty import Rules, Uncertainty, estimate_uncertainty
+
+__all__ = ["CHECKPOINT_SCHEMA", "METHODS", "OBJECTIVES", "FitProblem", "FitResult", "LMResult", "Rules",
+           "SimulationOptions", "Uncertainty", "estimate_uncertainty", "fit", "levenberg_marquardt",
+           "read_checkpoint", "trial_simulation"]

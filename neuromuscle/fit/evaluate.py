@@ -1,0 +1,111 @@
+"""Evaluation of candidates: one measured trial -> simulated force, and the map over candidate parameter vectors.
+
+* **Simulation of a trial** (:func:`trial_simulation`): the trial's clock (s) becomes the simulation clock (ms)
+  with ``time_s[0]`` at ``settle_ms`` (default 500 ms, spec: Ã starts at 0 and must settle before the first
+  stimulus).  During the settling period the length is held at the trial's first length.  The force is recorded
+  every ``record_dt_ms`` (default: every step) and linearly interpolated at the trial's samples.  Trials must
+  be in N and mm (the model's units): joint moments / angles are refused.
+* **Map.**  All candidates of one Jacobian are evaluated by one call of the map in a fixed order, so serial and
+  parallel fits are identical: every candidate is a pure function of its parameter vector (fixed-step
+  integration; each simulation builds and tears down its unit).
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import multiprocessing
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator
+
+import numpy as np
+
+from ..errors import InputError, NumericalError
+from ..protocols import LengthTrace
+from ..measured import Trial
+from ..parameters import ParameterSet
+from ..model.kim import kim_excitation
+from ..sim import simulate
+
+if TYPE_CHECKING:
+    from .problem import FitProblem
+
+MapFn = Callable[[Callable[[Any], Any], Iterable[Any]], Iterable[Any]]
+
+
+@dataclass(frozen=True)
+class SimulationOptions:
+    """How each trial is simulated: fixed step dt_ms (ms), recording interval record_dt_ms (ms; None = dt_ms),
+    settling time settle_ms (ms) before the trial's first sample, and the model's eq 18 / eqs 19-20 switches."""
+
+    dt_ms: float = 0.05
+    record_dt_ms: float | None = None
+    settle_ms: float = 500.0
+    length_compensation: bool = True
+    movement_compensation: bool = False
+
+
+def check_trial_units(trial: Trial) -> None:
+    """Refuse a trial whose force is not in N or whose length is not in mm."""
+    if trial.force_unit != "N" or trial.length_unit != "mm":
+        raise InputError(f"trial '{trial.trial_id}': force in {trial.force_unit!r} and length in "
+                         f"{trial.length_unit!r}; the muscle model needs 'N' and 'mm' (convert joint moments "
+                         "and angles first)")
+
+
+def trial_simulation(params: ParameterSet, trial: Trial, dt_ms: float = 0.05, *,
+                     record_dt_ms: float | None = None, settle_ms: float = 500.0,
+                     length_compensation: bool = True, movement_compensation: bool = False) -> np.ndarray:
+    """Simulated force (N) of a measured trial at the trial's own time points (``trial.time_s``, s).
+
+    The trial's time_s[0] is placed at settle_ms (ms) of simulated time; the length (constant or played) is
+    held at its first value before that.  Stimulus times (s) are converted to ms on the same clock.
+    """
+    check_trial_units(trial)
+    if not np.isfinite(settle_ms) or settle_ms < 0:
+        raise InputError(f"settle_ms must be finite and >= 0, got {settle_ms}")
+    t0 = float(trial.time_s[0])
+    t_ms = settle_ms + (np.asarray(trial.time_s, dtype=float) - t0) * 1000.0
+    duration_ms = float(t_ms[-1])
+    spikes_ms = settle_ms + (np.asarray(trial.stimulus_times_s, dtype=float) - t0) * 1000.0
+    length: LengthTrace | float
+    if trial.length is None:
+        if trial.length_const is None:
+            raise InputError(f"trial '{trial.trial_id}': neither a length dataset nor a constant length")
+        length = float(trial.length_const)
+    else:
+        x = np.asarray(trial.length, dtype=float)
+        lt, lx = (t_ms, x) if settle_ms == 0 else (np.concatenate([[0.0], t_ms]), np.concatenate([[x[0]], x]))
+        length = float(x[0]) if np.all(x == x[0]) else LengthTrace(lt, lx, name=f"trial {trial.trial_id}")
+    rec = dt_ms if record_dt_ms is None else record_dt_ms
+    res = simulate(params, spikes_ms, length, duration_ms, dt_ms=dt_ms, record_dt_ms=rec, record=("force.F",),
+                   excitation=kim_excitation(length_compensation, movement_compensation))
+    return np.interp(t_ms, res.t_ms, res.force_N)
+
+
+def evaluate_candidate(problem: FitProblem, z: np.ndarray) -> np.ndarray:
+    """The residuals of ``problem`` at search vector z (module-level so that worker processes can run it);
+    a run that fails numerically gives NaN residuals."""
+    try:
+        return problem.residuals(z)
+    except NumericalError:
+        return np.full(problem.n_residuals, np.nan)
+
+
+def serial_map(fn: Callable, items: Iterable) -> list:
+    """``map`` into a list, in this process."""
+    return [fn(x) for x in items]
+
+
+@contextmanager
+def candidate_map(map_fn: MapFn | None, workers: int, mp_context: str = "spawn") -> Iterator[MapFn]:
+    """The map that evaluates candidates: ``map_fn`` when given, else a pool of ``workers`` processes
+    (started by ``mp_context``) when workers > 1, else :func:`serial_map`.  The pool is shut down on exit."""
+    if map_fn is not None:
+        yield map_fn
+    elif workers == 1:
+        yield serial_map
+    else:
+        with concurrent.futures.ProcessPoolExecutor(
+                workers, mp_context=multiprocessing.get_context(mp_context)) as pool:
+            yield pool.map

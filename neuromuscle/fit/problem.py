@@ -1,0 +1,145 @@
+"""What to fit: measured trials, a base parameter set, the free parameters with bounds, the objective.
+
+    problem = FitProblem(list(data.trials.values()), base=load_parameters("CT09"), free=["C1", "C3"])
+
+A :class:`FitProblem` maps a search vector z (see :mod:`.transforms`) to a ParameterSet and to the residual
+vector of its objective (:mod:`.objectives`); the simulation of each trial is :func:`.evaluate.trial_simulation`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from ..errors import InputError
+from ..measured import Trial
+from ..parameters import SPECS, ParameterSet
+from .evaluate import SimulationOptions, check_trial_units, trial_simulation
+from .objectives import OBJECTIVES, residual_scales, weighted_residuals
+from .transforms import Transform, default_bounds
+
+
+class FitProblem:
+    """What to fit: trials (list of measured ``Trial``) with weights, a base ParameterSet, the free parameters
+    with bounds (parameter units), frozen values, the objective ("sse" or "nrmse") and simulation options.
+
+    free: names, or a mapping name -> (lower, upper) or None (default bounds, see :mod:`.transforms`).
+    start: optional start values of free parameters (default: the base set after ``frozen``).
+    """
+
+    def __init__(self, trials: Sequence[Trial], base: ParameterSet,
+                 free: Sequence[str] | Mapping[str, tuple[float, float] | None], *,
+                 weights: Sequence[float] | None = None, frozen: Mapping[str, float] | None = None,
+                 start: Mapping[str, float] | None = None, objective: str = "sse",
+                 options: SimulationOptions = SimulationOptions()) -> None:
+        if not isinstance(base, ParameterSet):
+            raise InputError(f"base must be a ParameterSet (see load_parameters), got {type(base).__name__}")
+        self.trials = list(trials)
+        if not self.trials:
+            raise InputError("FitProblem needs at least one trial")
+        for t in self.trials:
+            if not isinstance(t, Trial):
+                raise InputError(f"trials must be measured Trial objects, got {type(t).__name__}")
+            check_trial_units(t)
+        self.weights = np.ones(len(self.trials)) if weights is None else np.asarray(weights, dtype=float)
+        if self.weights.shape != (len(self.trials),) or not np.all(np.isfinite(self.weights)) \
+                or np.any(self.weights < 0):
+            raise InputError(f"weights must be {len(self.trials)} finite values >= 0, got {weights!r}")
+        if objective not in OBJECTIVES:
+            raise InputError(f"objective must be one of {OBJECTIVES}, got {objective!r}")
+        self.objective = objective
+        self.options = options
+        bounds_in = dict(free) if isinstance(free, Mapping) else {n: None for n in free}
+        if not bounds_in:
+            raise InputError("no free parameters: give at least one name to fit")
+        unknown = [n for n in bounds_in if n not in SPECS]
+        if unknown:
+            raise InputError(f"unknown free parameter(s) {unknown}; known: {', '.join(SPECS)}")
+        frozen = dict(frozen or {})
+        both = sorted(set(frozen) & set(bounds_in))
+        if both:
+            raise InputError(f"parameter(s) {both} are both free and frozen")
+        self.frozen = frozen
+        self.base = base.with_values(**frozen) if frozen else base
+        start = dict(start or {})
+        extra = sorted(set(start) - set(bounds_in))
+        if extra:
+            raise InputError(f"start values given for parameter(s) {extra} that are not free")
+        self.free = list(bounds_in)
+        self.start = {n: float(start.get(n, self.base[n])) for n in self.free}
+        self.base.with_values(**self.start)  # admissible?
+        self.bounds: dict[str, tuple[float, float]] = {}
+        self._tf: list[Transform] = []
+        for n in self.free:
+            lo, hi = bounds_in[n] if bounds_in[n] is not None else default_bounds(n, self.start[n])
+            lo, hi = float(lo), float(hi)
+            spec = SPECS[n]
+            if not (lo < hi) or not (np.isfinite(lo) and np.isfinite(hi)):
+                raise InputError(f"free parameter {n!r}: bounds ({lo}, {hi}) {spec.unit} must be finite with "
+                                 "lower < upper")
+            if lo < spec.lower or (lo == spec.lower and not spec.lower_inclusive):
+                raise InputError(f"free parameter {n!r}: lower bound {lo} {spec.unit} is outside the admissible "
+                                 f"range ({'>=' if spec.lower_inclusive else '>'} {spec.lower})")
+            p0 = self.start[n]
+            if not lo <= p0 <= hi:
+                raise InputError(f"free parameter {n!r}: start {p0} {spec.unit} is outside its bounds "
+                                 f"[{lo}, {hi}]")
+            self.bounds[n] = (lo, hi)
+            self._tf.append(Transform.for_parameter(n, p0, lo, hi))
+        needs_stim = [n for n in self.free if SPECS[n].module in (0, 1, 2)]
+        for t in self.trials:
+            if np.size(t.stimulus_times_s) == 0:
+                what = (f"Module 1/2 parameter(s) {needs_stim}" if needs_stim else f"parameter(s) {self.free}")
+                raise InputError(f"trial '{t.trial_id}' has no stimulus: without one the model stays at rest and "
+                                 f"the trial carries no information on {what}; drop it from the fit")
+            if t.n_samples < 2:
+                raise InputError(f"trial '{t.trial_id}' has fewer than 2 samples")
+        self._scale = residual_scales(self.trials, self.weights, objective)
+
+    # -- search space -------------------------------------------------------------------------------------
+    @property
+    def n_residuals(self) -> int:
+        return int(sum(t.n_samples for t in self.trials))
+
+    def z_bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """Bounds of the search vector z."""
+        lo = np.array([tf.to_z(self.bounds[tf.name][0]) for tf in self._tf])
+        hi = np.array([tf.to_z(self.bounds[tf.name][1]) for tf in self._tf])
+        return lo, hi
+
+    def to_z(self, values: Mapping[str, float]) -> np.ndarray:
+        """Search vector of the free parameters' ``values`` (parameter units)."""
+        return np.array([tf.to_z(float(values[tf.name])) for tf in self._tf])
+
+    def to_values(self, z: Sequence[float]) -> dict[str, float]:
+        """The free parameters (parameter units) at search vector z."""
+        return {tf.name: tf.to_p(float(zi)) for tf, zi in zip(self._tf, z)}
+
+    def dp_dz(self, z: Sequence[float]) -> np.ndarray:
+        """dp/dz of every free parameter at z (parameter units per unit of z)."""
+        vals = self.to_values(z)
+        return np.array([tf.dp_dz(vals[tf.name]) for tf in self._tf])
+
+    def parameters(self, z: Sequence[float]) -> ParameterSet:
+        """The complete ParameterSet at search vector z."""
+        return self.base.with_values(**self.to_values(z))
+
+    def reference(self) -> dict[str, dict[str, Any]]:
+        """The transform of each free parameter (for the checkpoint)."""
+        return {tf.name: {"ref": tf.ref, "log": tf.log, "scale": tf.scale} for tf in self._tf}
+
+    # -- evaluation ---------------------------------------------------------------------------------------
+    def simulate_trials(self, z: Sequence[float]) -> list[np.ndarray]:
+        """Simulated force (N) of every trial at search vector z."""
+        params = self.parameters(z)
+        return [trial_simulation(params, t, **asdict(self.options)) for t in self.trials]
+
+    def residuals_from(self, sims: Sequence[np.ndarray]) -> np.ndarray:
+        """The residual vector of the simulated forces ``sims`` (N, one array per trial)."""
+        return weighted_residuals(self._scale, sims, self.trials)
+
+    def residuals(self, z: Sequence[float]) -> np.ndarray:
+        """The residual vector at z (units: see :mod:`.objectives`)."""
+        return self.residuals_from(self.simulate_trials(z))

@@ -1,0 +1,157 @@
+"""``fit``: one fit of a :class:`.problem.FitProblem`, from the start (or a checkpoint) to a :class:`FitResult`
+with the uncertainty and identifiability of its estimates (:mod:`.uncertainty`, ``Rules.for_fit``)."""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass, field
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from ..analysis.metrics import nrmse_percent
+from ..parameters import SPECS, ParameterSet
+from .checkpoint import Tracker, read_checkpoint
+from .evaluate import MapFn, candidate_map, evaluate_candidate
+from .optimizers import fd_jacobian, praxis, trust_region_least_squares
+from .problem import FitProblem
+from .uncertainty import Rules, Uncertainty, estimate_uncertainty
+
+METHODS = ("least_squares", "praxis")
+
+
+@dataclass
+class FitResult:
+    """Outcome of :func:`fit`: the fitted ParameterSet, the :class:`Uncertainty` of the free parameters
+    (estimates, SE and intervals in the units of ``SPECS``), cost (sum of squared residuals, see
+    :mod:`.objectives`), ``nrmse_percent`` and the simulated force (N) per trial id, counters and history."""
+
+    parameters: ParameterSet
+    uncertainty: Uncertainty
+    cost: float
+    nrmse_percent: dict[str, float]
+    simulated: dict[str, np.ndarray]
+    n_simulations: int
+    n_iterations: int
+    wall_time_s: float
+    method: str
+    message: str
+    history: list[dict[str, Any]] = field(default_factory=list)
+
+    @property
+    def free(self) -> list[str]:
+        return list(self.uncertainty.names)
+
+    @property
+    def estimates(self) -> dict[str, float]:
+        return self.uncertainty.estimates
+
+    @property
+    def std_errors(self) -> dict[str, float]:
+        return self.uncertainty.std_errors
+
+    @property
+    def ci95(self) -> dict[str, tuple[float, float]]:
+        return self.uncertainty.ci95
+
+    @property
+    def identifiable(self) -> dict[str, bool]:
+        return self.uncertainty.identifiable
+
+    @property
+    def flags(self) -> dict[str, str]:
+        return self.uncertainty.flags
+
+    @property
+    def singular_values(self) -> np.ndarray:
+        return self.uncertainty.singular_values
+
+    @property
+    def correlation(self) -> np.ndarray:
+        return self.uncertainty.correlation
+
+    @property
+    def unidentifiable(self) -> list[str]:
+        """Names of the parameters the data cannot identify."""
+        return [n for n in self.free if not self.identifiable[n]]
+
+    def summary(self) -> str:
+        """A short table: estimate, SE, 95 % interval, flag."""
+        lines = [f"{self.method}: cost {self.cost:.6g}, {self.n_iterations} iterations, {self.n_simulations} "
+                 f"simulations, {self.wall_time_s:.1f} s ({self.message})"]
+        for n in self.free:
+            lo, hi = self.ci95[n]
+            flag = f"  NOT IDENTIFIABLE: {self.flags[n]}" if n in self.flags else ""
+            lines.append(f"  {n:7s} = {self.estimates[n]:.6g} {SPECS[n].unit}  SE {self.std_errors[n]:.3g}  "
+                         f"95% [{lo:.6g}, {hi:.6g}]{flag}")
+        lines += [f"  NRMSE {k}: {v:.3f} %" for k, v in self.nrmse_percent.items()]
+        return "\n".join(lines)
+
+
+def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None = None, workers: int = 1,
+        checkpoint: str | os.PathLike | None = None, progress: bool = True, *, resume: bool = False,
+        fd: str = "central", fd_step: float = 1e-3, max_iterations: int = 100, tolerance: float = 1e-8,
+        ident_rcond: float = 1e-3, max_rel_se: float = 0.5, mp_context: str = "spawn") -> FitResult:
+    """Fit ``problem``'s free parameters (search space: :mod:`.transforms`; statistics: :mod:`.uncertainty`).
+
+    method: "least_squares" (scipy trust-region reflective with a finite-difference Jacobian in z) or
+    "praxis" (NEURON's h.fit_praxis on the cost, the seed's baseline; serial; bounds by clipping plus a
+    penalty).  map_fn(fn, iterable) evaluates candidates (any ``map``: serial by default, a process pool with
+    ``workers`` > 1).  checkpoint: JSON path written after every iteration; resume=True starts from it.
+    tolerance: scipy's ftol/xtol/gtol (least_squares) or praxis' tolerance in z.  max_iterations: iterations
+    (Jacobians; praxis: rounds of 2k+2 evaluations) of this call; the best point so far is returned after it.
+    fd, fd_step: finite differences (:func:`.optimizers.fd_jacobian`).  ident_rcond, max_rel_se: the
+    identifiability flags (``Rules.for_fit``).
+    """
+    if not (isinstance(max_iterations, int) and max_iterations >= 1):
+        raise InputError(f"max_iterations must be an integer >= 1, got {max_iterations!r}")
+    if method not in METHODS:
+        raise InputError(f"method must be one of {METHODS}, got {method!r}")
+    if fd not in ("central", "forward"):
+        raise InputError(f"fd must be 'central' or 'forward', got {fd!r}")
+    if not (isinstance(workers, int) and workers >= 1):
+        raise InputError(f"workers must be an integer >= 1, got {workers!r}")
+    if map_fn is not None and workers > 1:
+        raise InputError("give either map_fn or workers > 1, not both")
+    ckpt = Path(checkpoint) if checkpoint is not None else None
+    if resume and ckpt is None:
+        raise InputError("resume=True needs the checkpoint path")
+    previous = read_checkpoint(ckpt, problem) if resume else None
+    z0 = problem.to_z(previous["best"]) if previous else np.zeros(len(problem.free))
+    lo, hi = problem.z_bounds()
+    z0 = np.clip(z0, lo, hi)
+    tracker = Tracker(problem, method, ckpt, progress, previous)
+    with candidate_map(map_fn, workers, mp_context) as map_candidates:
+        evaluate = partial(evaluate_candidate, problem)
+
+        def run_all(zs: list[np.ndarray]) -> list[np.ndarray]:
+            rs = [np.asarray(r, dtype=float) for r in map_candidates(evaluate, zs)]
+            tracker.evaluated(zs, rs)
+            return rs
+
+        if method == "least_squares":
+            z, message, jr = trust_region_least_squares(z0, lo, hi, run_all, tracker, fd, fd_step,
+                                                        max_iterations, tolerance)
+        else:
+            z, message = praxis(z0, lo, hi, run_all, tracker, max_iterations, tolerance)
+            jr = None
+        jac = jr[0] if jr is not None else fd_jacobian(z, lo, hi, run_all, fd, fd_step, None)[0]
+    sims = problem.simulate_trials(z)
+    tracker.n_sim += len(problem.trials)
+    r = problem.residuals_from(sims)
+    tracker.best_z, tracker.best_cost = z, float(r @ r)
+    tracker.write(final=True)
+    def to_p(zz: np.ndarray) -> np.ndarray:
+        return np.array(list(problem.to_values(zz).values()))
+
+    unc = estimate_uncertainty(problem.free, z, jac, r, to_p, problem.dp_dz(z), Rules.for_fit(ident_rcond, max_rel_se))
+    return FitResult(
+        parameters=problem.parameters(z), uncertainty=unc, cost=float(r @ r),
+        nrmse_percent={t.trial_id: nrmse_percent(t.force, s) for t, s in zip(problem.trials, sims)},
+        simulated={t.trial_id: s for t, s in zip(problem.trials, sims)}, n_simulations=tracker.n_sim,
+        n_iterations=tracker.n_iter, wall_time_s=time.perf_counter() - tracker.t_start, method=method,
+        message=message, history=tracker.history)

@@ -1,0 +1,53 @@
+"""Evaluation of candidates (neuromuscle.fit.evaluate): a trial's simulation; serial and parallel maps agree."""
+
+import numpy as np
+import pytest
+from fit_synthetic import OPTS, far_start, synthetic_trial
+
+from neuromuscle.errors import InputError
+from neuromuscle.fit import FitProblem, fit, trial_simulation
+from neuromuscle.measured import Trial
+from neuromuscle.sim import simulate
+
+
+def test_trial_simulation_matches_simulate(ct09):
+    t = np.arange(0.1, 0.25, 0.0005)  # a trial clock that does not start at 0
+    tr = Trial(trial_id="a", protocol="twitch", time_s=t, force=np.zeros_like(t), force_unit="N",
+               length_unit="mm", length_const=-8.0, stimulus_times_s=np.array([0.12]))
+    got = trial_simulation(ct09, tr, 0.1, settle_ms=100.0)
+    ref = simulate(ct09, [120.0], -8.0, 250.0, dt_ms=0.1, record_dt_ms=0.1)
+    np.testing.assert_allclose(got, np.interp((t - 0.1) * 1000 + 100.0, ref.t_ms, ref.force_N), atol=1e-9)
+    assert got.max() > 3.0
+
+
+def test_trial_simulation_played_length_and_units(ct09):
+    ramp = synthetic_trial(ct09, "ramp", [0.02], length=lambda t: -8.0 + 20.0 * np.clip(t - 0.05, 0, 0.1),
+                           seed=2)
+    iso = synthetic_trial(ct09, "iso", [0.02], seed=2)
+    assert np.max(np.abs(ramp.force - iso.force)) > 0.3  # lengthening changes the force
+    moment = Trial(trial_id="m", protocol="twitch", time_s=ramp.time_s, force=ramp.force, force_unit="N*m",
+                   length_unit="mm", length_const=-8.0, stimulus_times_s=np.array([0.02]))
+    with pytest.raises(InputError, match="'N' and 'mm'"):
+        trial_simulation(ct09, moment)
+
+
+def test_serial_and_two_workers_identical(ct09, twitch_trials):
+    problem = FitProblem(twitch_trials, ct09, ["C3", "C1"], start=far_start(ct09), options=OPTS)
+    serial = fit(problem, progress=False, max_iterations=3)
+    parallel = fit(problem, progress=False, max_iterations=3, workers=2)
+    assert serial.estimates == parallel.estimates
+    assert serial.cost == parallel.cost and serial.std_errors == parallel.std_errors
+    assert [h["cost"] for h in serial.history] == [h["cost"] for h in parallel.history]
+
+
+def test_custom_map_is_used(ct09, twitch_trials):
+    calls = []
+
+    def my_map(fn, items):
+        items = list(items)
+        calls.append(len(items))
+        return map(fn, items)
+
+    problem = FitProblem(twitch_trials[:1], ct09, ["C3"], options=OPTS)
+    fit(problem, progress=False, max_iterations=2, map_fn=my_map)
+    assert 2 in calls  # one Jacobian (central differences, one parameter) = one map call of 2 candidates
