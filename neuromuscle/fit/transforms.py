@@ -45,9 +45,14 @@ class Transform:
 
 
 def default_bounds(name: str, p: float) -> tuple[float, float]:
-    """Default (lower, upper) bounds (parameter units) of parameter ``name`` started at p."""
+    """Default (lower, upper) bounds (parameter units) of parameter ``name`` started at p: a decade either side
+    (or +-max(|p|, 1) for a parameter that may be negative), never beyond the parameter's physiological range
+    (``neuromuscle.parameters.SPECS``, the bounds every parameter file is checked against)."""
     spec = SPECS[name]
     if spec.lower >= 0 and p > 0:
-        return p / 10.0, p * 10.0
-    half = max(abs(p), 1.0)
-    return max(p - half, spec.lower), p + half
+        lo, hi = p / 10.0, p * 10.0
+    else:
+        half = max(abs(p), 1.0)
+        lo, hi = p - half, p + half
+    lo = max(lo, spec.lower) if spec.lower_inclusive or spec.lower <= 0 else max(lo, spec.lower * (1 + 1e-12))
+    return lo, min(hi, spec.upper)

@@ -16,7 +16,7 @@ from .component import Component, Param, Port, State
 
 _T1 = "a decade either side of seed 001 Table 1 (CT09/CT95)"
 _SHAPE = "seed 001 eq 8: keeps the activation curve and its time-constant bell well posed"
-_EQ18 = "seed 001 eq 18: phi stays positive over -40..10 mm"
+_EQ18 = "seed 001 eq 18: lines through phi(Xm) between 0 and 3 over the muscle's working range"
 _EQ19 = "seed 001 eqs 19-20 (CT09/CT95 values and the authors' code)"
 _M3 = "seed 001 eqs 9-12: cat soleus and medial gastrocnemius motor units to whole muscles"
 
@@ -49,10 +49,10 @@ class KimCalcium(Component):
         _rate("B0", "M", 0.00043, "total sarcoplasmic buffer"),
         _rate("T0", "M", 7e-5, "total troponin"),
         Param("CaSR0", "M", 0.0025, 0.0, 0.025, "initial free SR calcium", _T1),
-        Param("phi1", "1/mm", 0.03, -0.2, 0.2, "eq 18 slope at or below the optimum", _EQ18),
-        Param("phi2", "1", 1.23, 0.0, 3.0, "eq 18 intercept at or below the optimum", _EQ18),
-        Param("phi3", "1/mm", 0.01, -0.2, 0.2, "eq 18 slope above the optimum", _EQ18),
-        Param("phi4", "1", 1.08, 0.0, 3.0, "eq 18 intercept above the optimum", _EQ18),
+        Param("phi1", "1/mm", 0.03, -0.5, 0.5, "eq 18 slope at or below the optimum", _EQ18),
+        Param("phi2", "1", 1.23, -10.0, 10.0, "eq 18 intercept at or below the optimum", _EQ18),
+        Param("phi3", "1/mm", 0.01, -0.5, 0.5, "eq 18 slope above the optimum", _EQ18),
+        Param("phi4", "1", 1.08, -10.0, 10.0, "eq 18 intercept above the optimum", _EQ18),
     )
     reads = (
         Port("atil", "1", "act.atil"),

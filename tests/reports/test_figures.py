@@ -8,9 +8,9 @@ from pathlib import Path
 import pytest
 from matplotlib.figure import Figure
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "calibration"))
 
-from test_calibration import synthetic_data  # noqa: E402
+from calibration_synthetic import synthetic_data  # noqa: E402
 
 from neuromuscle.hatze.report import FIGURES  # noqa: E402
 from neuromuscle.hatze.workflow import run_twitch_to_tetanus  # noqa: E402

@@ -1,0 +1,19 @@
+"""Every script in networks/ runs as a user would run it (python networks/NAME.py OUT.png) and produces output."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+NETWORKS = Path(__file__).resolve().parents[2] / "networks"
+
+
+@pytest.mark.parametrize("script", sorted(p.name for p in NETWORKS.glob("*.py")))
+def test_network_script_runs(script, tmp_path):
+    png = tmp_path / "out.png"
+    out = subprocess.run([sys.executable, str(NETWORKS / script), str(png)], cwd=tmp_path, capture_output=True,
+                         text=True, timeout=600)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert png.is_file() and png.stat().st_size > 1000
+    assert "peak force" in out.stdout
