@@ -11,6 +11,7 @@ import numpy as np
 from .. import protocols
 from ..errors import InputError
 from ..protocols import LengthTrace
+from ..reports.outdir import refuse_existing_file
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -133,9 +134,7 @@ def run(args: argparse.Namespace) -> int:
     params = load_parameters(args.params)
     spikes, proto = _stimulus(args)
     length, lproto = _length(args)
-    out = Path(args.out)
-    if out.exists() and not args.overwrite:
-        raise InputError(f"{out}: exists; refusing to overwrite (add --overwrite, or choose another --out)")
+    out = refuse_existing_file(args.out, args.overwrite)  # before the run: a refusal costs nothing
     excitation = kim_excitation(not args.no_length_compensation, args.movement_compensation) \
         if args.excitation == "kim" else hatze_excitation()
     result = simulate(params, spikes, length, args.duration_ms, dt_ms=args.dt_ms, method=args.method,

@@ -16,6 +16,7 @@ import h5py
 import numpy as np
 
 from ..errors import InputError
+from ..reports.outdir import refuse_existing_file
 from .schema import SCHEMA, TRIAL_DATASETS, MeasuredData, PathLike, Trial, to_h5_attr
 from .validate import find_problems, raise_problems, validate_measured
 
@@ -202,12 +203,9 @@ def write_measured(path: PathLike, data: MeasuredData, overwrite: bool = False) 
     """
     out = Path(path)
     validate_measured(data, source=str(out))
-    if out.exists() and not overwrite:
-        raise InputError(f"{out}: file exists; pass overwrite=True to replace it")
     if data.path is not None and out.exists() and _same_file(out, data.path):
         raise InputError(f"{out}: is the input file these data were read from; write to another path")
-    if out.exists() and not out.is_file():
-        raise InputError(f"{out}: exists and is not a regular file")
+    refuse_existing_file(out, overwrite)
     if not out.parent.is_dir():
         raise InputError(f"{out}: directory '{out.parent}' does not exist")
     tmp_name = out.parent / f".{out.name}.{uuid.uuid4().hex}.tmp"

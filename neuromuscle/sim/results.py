@@ -20,6 +20,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..parameters import ParameterSet, parameters_from_json
+from ..reports.outdir import atomic_path, refuse_existing_file
 
 SCHEMA = "neuromuscle.simulation/2"
 
@@ -76,12 +77,8 @@ class SimulationResult:
 
 def save_result(result: SimulationResult, path: str | Path, overwrite: bool = False) -> Path:
     """Write a SimulationResult (schema above); refuses to replace an existing file unless overwrite."""
-    path = Path(path)
-    if path.exists() and not overwrite:
-        raise InputError(f"{path}: exists; refusing to overwrite (overwrite=True, or --overwrite on the "
-                         "command line)")
-    tmp = path.with_name(path.name + ".part")
-    with h5py.File(tmp, "w") as f:
+    path = refuse_existing_file(path, overwrite)
+    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
         f.attrs["schema"] = SCHEMA
         f.attrs["parameter_set"] = result.params.name
         f.attrs["parameters"] = json.dumps(result.params.to_json())
@@ -93,7 +90,6 @@ def save_result(result: SimulationResult, path: str | Path, overwrite: bool = Fa
         for k, v in result.traces.items():
             d = g.create_dataset(k, data=np.asarray(v, dtype=float))
             d.attrs["unit"] = result.units.get(k, "")
-    tmp.replace(path)
     return path
 
 

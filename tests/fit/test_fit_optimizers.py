@@ -19,7 +19,7 @@ def test_recovers_C3_C1_from_far_start_inside_ci(ct09, twitch_trials):
     # cost = sum of squared errors, about n * noise^2 at the truth
     n = sum(t.n_samples for t in twitch_trials)
     assert 0.7 * n * NOISE_N ** 2 < res.cost < 1.3 * n * NOISE_N ** 2
-    assert res.n_simulations > 0 and res.wall_time_s > 0 and res.n_iterations == len(res.history)
+    assert res.n_simulations > 0 and res.n_iterations == len(res.history)  # wall time reported, not asserted
 
 
 def test_recovers_module3_a0_b0_on_isokinetic_trials(ct09):
