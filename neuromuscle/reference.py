@@ -9,6 +9,7 @@ Units as in the mechanisms: ms, M, mm, N, mm/s.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable, Mapping
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -48,15 +49,23 @@ def activation(atil: float, t: float, x: float, v: float, p: ParameterSet, movco
     return max(A, 1e-3)
 
 
+#: The modulation ports of the mechanisms and their neutral values (an extension's twin supplies functions of t).
+NEUTRAL_PORTS = {"release_gain": 1.0, "uptake_gain": 1.0, "tauA_gain": 1.0, "force_offset": 0.0}
+
+
+def _port(mod: Mapping[str, Callable[[float], float]], name: str, t: float) -> float:
+    return float(mod[name](t)) if name in mod else NEUTRAL_PORTS[name]
+
+
 def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: LengthTrace,
-         lencomp: bool, movcomp: bool) -> list[float]:
+         lencomp: bool, movcomp: bool, mod: Mapping[str, Callable[[float], float]]) -> list[float]:
     CaSR, CaSRCS, CaSP, CaSPB, CaSPT, At, ext = y
     d = t - spikes[spikes <= t]
     s = float(np.sum((1.0 - np.exp(-d / p["tau1"])) * np.exp(-d / p["tau2"])))
-    R = CaSR * p["Rmax"] * s
+    R = _port(mod, "release_gain", t) * CaSR * p["Rmax"] * s
     c = max(CaSP, 0.0)
     z = (c * p["K"]) ** 2
-    U = p["Umax"] * (z / (1.0 + c * p["K"] + z)) ** 2
+    U = _port(mod, "uptake_gain", t) * p["Umax"] * (z / (1.0 + c * p["K"] + z)) ** 2
     x = float(np.interp(t, trace.t_ms, trace.xm_mm))
     v = float(np.interp(t, trace.t_ms, trace.velocity_mm_s))
     K5 = p["K5i"] * (_phi(x, p) if lencomp else 1.0)
@@ -66,7 +75,7 @@ def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: Le
     st = K5 * CaSP * (p["T0"] - CaSPT) - K6 * CaSPT
     xt = CaSPT / p["T0"]
     ainf = 0.5 * (1.0 + np.tanh((xt - p["C1"]) / p["C2"]))
-    tau = p["C3"] / np.cosh((xt - p["C4"]) / (2.0 * p["C5"]))
+    tau = _port(mod, "tauA_gain", t) * p["C3"] / np.cosh((xt - p["C4"]) / (2.0 * p["C5"]))
     A = activation(At, t, x, v, p, movcomp, trace.onset_ms)
     F = p["P0"] * p["KSE"] * max(ext, 0.0)
     Fc = float(force_length(x, p["g1"], p["g2"], p["P0"])) * A
@@ -77,8 +86,15 @@ def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: Le
 
 def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: LengthTrace | float,
                        duration_ms: float, *, record_dt_ms: float = 0.025, length_compensation: bool = True,
-                       movement_compensation: bool = False, rtol: float = 1e-8) -> ReferenceResult:
-    """Integrate the model with scipy Radau from the published initial state (ms, mm, N, M)."""
+                       movement_compensation: bool = False, rtol: float = 1e-8,
+                       modulation: Mapping[str, Callable[[float], float]] | None = None) -> ReferenceResult:
+    """Integrate the model with scipy Radau from the published initial state (ms, mm, N, M).  ``modulation``
+    maps port names (``NEUTRAL_PORTS``) to functions of t (ms): an extension's twin (its
+    ``reference_modulation``); the output force is the SE force plus force_offset(t) (N)."""
+    mod = dict(modulation or {})
+    unknown = set(mod) - set(NEUTRAL_PORTS)
+    if unknown:
+        raise ValueError(f"unknown modulation ports {sorted(unknown)}; known: {sorted(NEUTRAL_PORTS)}")
     trace = length if isinstance(length, LengthTrace) else LengthTrace.isometric(float(length), duration_ms)
     spikes = np.asarray(spikes_ms, dtype=float)
     p = params
@@ -91,7 +107,7 @@ def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: Leng
     for a, b in zip(edges[:-1], edges[1:]):
         sel = t_eval[(t_eval >= a) & (t_eval < b)] if b < duration_ms else t_eval[t_eval >= a]
         sol = solve_ivp(_rhs, (a, b), y, method="Radau", rtol=rtol, atol=_ATOL, t_eval=sel, max_step=1.0,
-                        args=(p, spikes, trace, length_compensation, movement_compensation))
+                        args=(p, spikes, trace, length_compensation, movement_compensation, mod))
         if sol.status != 0:
             raise RuntimeError(f"reference integration failed on {a}..{b} ms: {sol.message}")
         ys.append(sol.y)
@@ -103,6 +119,6 @@ def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: Leng
     v = trace.velocity_at(t)
     A = np.array([activation(a, ti, xi, vi, p, movement_compensation, trace.onset_ms)
                   for a, ti, xi, vi in zip(Y[5], t, x, v)])
-    F = p["P0"] * p["KSE"] * np.maximum(Y[6], 0.0)
+    F = p["P0"] * p["KSE"] * np.maximum(Y[6], 0.0) + np.array([_port(mod, "force_offset", ti) for ti in t])
     names = ("CaSR", "CaSRCS", "CaSP", "CaSPB", "CaSPT")
     return ReferenceResult(t, F, A, Y[5], {n: Y[i] for i, n in enumerate(names)})

@@ -1,0 +1,70 @@
+"""Model extensions: found by name, wired to their port, off (or neutral) bit-identical to the baseline, and the
+NMODL checked against an independent SciPy integration of the same equations (fixed step and CVODE)."""
+
+import numpy as np
+import pytest
+
+from neuromuscle import InputError, MuscleUnit, simulate
+from neuromuscle.model.extensions import registry
+from neuromuscle.protocols import constant_rate
+from neuromuscle.reference import reference_simulate
+
+
+def test_catalogue_is_found_by_scanning_the_folder():
+    cat = registry()
+    assert "fatigue" in cat
+    assert cat["fatigue"].targets == {"ca.release_gain": "gain"}
+
+
+def test_unknown_extension_and_bad_parameters_are_refused(ct09):
+    with pytest.raises(InputError, match="unknown extension 'fatgue'"):
+        MuscleUnit(ct09, extensions={"fatgue": {}})
+    with pytest.raises(InputError, match="'k' = 0.5 1 is outside its physiological range"):
+        MuscleUnit(ct09, extensions={"fatigue": {"k": 0.5}})
+    with pytest.raises(InputError, match="unknown parameter"):
+        MuscleUnit(ct09, extensions={"fatigue": {"kk": 0.1}})
+
+
+@pytest.mark.parametrize("method", ["fixed", "cvode"])
+def test_neutral_extension_reproduces_the_baseline(ct09, method):
+    """Fixed step: bit-identical.  CVODE: the extension's state joins the error norm and moves the adaptive
+    steps, so the traces agree to the integrator's tolerance, not bit for bit (off, absent, is bit-identical)."""
+    spikes = constant_rate(50, 600.0, start_ms=50.0)
+    base = simulate(ct09, spikes, -8.0, 800.0, method=method)
+    neutral = simulate(ct09, spikes, -8.0, 800.0, method=method, extensions={"fatigue": {"k": 0.0}})
+    if method == "fixed":
+        np.testing.assert_array_equal(base.force_N, neutral.force_N)
+    else:
+        assert np.max(np.abs(base.force_N - neutral.force_N)) < 1e-4 * base.force_N.max()
+    assert neutral.settings["extensions"] == ["fatigue"]
+
+
+@pytest.mark.parametrize("method", ["fixed", "cvode"])
+def test_fatigue_matches_its_scipy_twin(ct09, method):
+    spikes = constant_rate(60, 1400.0, start_ms=50.0)
+    values = {"k": 0.03, "tau_rec": 3000.0}
+    twin = registry()["fatigue"].reference_modulation(values, spikes)
+    ref = reference_simulate(ct09, spikes, -8.0, 1500.0, record_dt_ms=0.5, modulation=twin)
+    sim = simulate(ct09, spikes, -8.0, 1500.0, method=method, record_dt_ms=0.5,
+                   extensions={"fatigue": values}, record=("force.F", "fatigue.gain"))
+    n = min(ref.t_ms.size, sim.t_ms.size)
+    err = sim.force_N[:n] - ref.force_N[:n]
+    # the baseline's own tolerances against SciPy (tests/sim/test_accuracy.py: random trains)
+    assert np.sqrt(np.mean(err**2)) < 0.005 * ref.force_N.max(), method
+    assert np.max(np.abs(err)) < 0.015 * ref.force_N.max(), method
+    gain_ref = np.array([twin["release_gain"](t) for t in sim.t_ms[:n]])
+    np.testing.assert_allclose(sim["fatigue.gain"][:n], gain_ref, atol=2e-3)
+    # and it is an effect: the late plateau sits clearly below the unfatigued one
+    base = simulate(ct09, spikes, -8.0, 1500.0, method=method, record_dt_ms=0.5)
+    late = slice(int(1300 / 0.5), int(1450 / 0.5))
+    assert sim.force_N[late].mean() < 0.95 * base.force_N[late].mean()
+
+
+def test_extension_from_the_command_line(tmp_path, capsys):
+    from neuromuscle.cli import main
+
+    out = tmp_path / "f.h5"
+    assert main(["simulate", "--protocol", "train", "--rate-hz", "80", "--train-ms", "600", "--duration-ms", "900",
+                 "--extension", "fatigue:k=0.05,tau_rec=2000", "--out", str(out)]) == 0
+    assert main(["simulate", "--extension", "fatigue:k", "--out", str(tmp_path / "g.h5")]) == 2
+    assert "expected NAME[:PARAM=VALUE" in capsys.readouterr().err
