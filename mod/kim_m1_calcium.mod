@@ -12,9 +12,10 @@ Coupling (documented interface, see neuromuscle/model/kim.py):
   POINTER atil  -> activation state Atil of the activation mechanism (KimAct), dimensionless
   POINTER xm    -> muscle length Xm (mm) held by a MuscleLength point process
   POINTER release_gain, uptake_gain -> modulation ports (1): R is multiplied by release_gain and the pump U by
-                   uptake_gain.  An extension points them at its own RANGE output; unused, the Python wiring points
-                   them at this mechanism's RANGE unity (= 1), x*1 being exact (off is bit-identical); left unset
-                   (hoc), they count as 1 (nrn_pointing).
+                   uptake_gain.  An extension points them at its own RANGE output; they are read only when
+                   use_ports = 1 (the Python wiring sets it when an extension is attached, and points unused
+                   ones at this mechanism's RANGE unity = 1); with use_ports = 0 (default) they count as 1 and
+                   need not be set.  x*1 is exact: off is bit-identical.
 Exposes RANGE CaSPT (M), and the parameters shared with Module 2 (T0 (M), phi1, phi2 (eq 18), xopt (mm)), which
 KimAct reads through POINTERs: they live in this mechanism only.
 Spikes: NET_RECEIVE with weight w (1 for one spike): both release kernels jump by w.
@@ -32,7 +33,7 @@ NEURON {
     THREADSAFE
     RANGE K1, K2, K3, K4, K5i, K6i, K, Rmax, Umax, tau1, tau2, CS0, B0, T0, CaSR0
     RANGE phi1, phi2, phi3, phi4, xopt, lencomp
-    RANGE R, U, K5, K6, phi, nspike, unity
+    RANGE R, U, K5, K6, phi, nspike, unity, use_ports
     POINTER atil, xm, release_gain, uptake_gain
 }
 
@@ -63,6 +64,7 @@ PARAMETER {
     xopt = -8 (mm)
     lencomp = 1 (1)
     unity = 1 (1)
+    use_ports = 0 (1)
 }
 
 ASSIGNED {
@@ -146,15 +148,13 @@ PROCEDURE rates_coeffs() {
         K5 = K5i
     }
     K6 = K6i/(1 + 5*atil)
-    : modulation ports: a hoc user who leaves one unset gets the neutral 1 (nrn_pointing), never a crash
-    if (nrn_pointing(release_gain)) {
+    : modulation ports, read only when an extension drives them (use_ports = 1, set by the Python wiring);
+    : otherwise the neutral 1, with no pointer dereference per step (and nothing to set for a hoc user)
+    if (use_ports) {
         rg = release_gain
-    } else {
-        rg = 1
-    }
-    if (nrn_pointing(uptake_gain)) {
         ug = uptake_gain
     } else {
+        rg = 1
         ug = 1
     }
 }

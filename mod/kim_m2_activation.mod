@@ -16,8 +16,9 @@ Coupling (documented interface, see neuromuscle/model/kim.py):
                    eq 18 length factor below the optimum live in KimCa only, so setting one cannot make the two
                    modules disagree.
   POINTER xm, vm -> muscle length (mm) and velocity (mm/s) of a MuscleLength point process
-  POINTER tauA_gain -> modulation port (1): tau_A is multiplied by it (an extension's RANGE output); unused, it
-                   points at this mechanism's RANGE unity (= 1), and x/1 is exact: off is bit-identical.
+  POINTER tauA_gain -> modulation port (1): tau_A is multiplied by it (an extension's RANGE output); read only
+                   when use_ports = 1 (set by the Python wiring), else 1; x/1 is exact: off is bit-identical.
+  The shared parameters are read through their POINTERs once, at INITIAL (T0c, phi1c, phi2c, xoptc).
   RANGE A        <- read by the force mechanism (KimForce POINTER act).  Any excitation model that exposes an
                    activation A in [0, 1] can take this place in front of Module 3.
 Numerics: linear in Atil, so METHOD cnexp is exact for frozen x in fixed step; CVODE uses the same block.
@@ -27,9 +28,10 @@ NEURON {
     POINT_PROCESS KimAct
     THREADSAFE
     RANGE C1, C2, C3, C4, C5, alpha, alpha1, alpha2, alpha3, beta, gamma
-    RANGE movcomp, onset, Afloor, unity
+    RANGE movcomp, onset, Afloor, unity, use_ports
     RANGE A, alpha_t, Ainf, tauA, atil0
     POINTER caspt, xm, vm, T0, phi1, phi2, xopt, tauA_gain
+    RANGE T0c, phi1c, phi2c, xoptc
 }
 
 UNITS {
@@ -53,6 +55,7 @@ PARAMETER {
     Afloor = 0.001 (1)
     atil0 = 0 (1)
     unity = 1 (1)
+    use_ports = 0 (1)
 }
 
 ASSIGNED {
@@ -62,6 +65,10 @@ ASSIGNED {
     phi2 (1)
     xopt (mm)
     tauA_gain (1)
+    T0c (M)
+    phi1c (/mm)
+    phi2c (1)
+    xoptc (mm)
     xm (mm)
     vm (mm/s)
     A (1)
@@ -76,6 +83,11 @@ STATE {
 }
 
 INITIAL {
+    : KimCa's shared parameters, read once per run (they are constants of the run)
+    T0c = T0
+    phi1c = phi1
+    phi2c = phi2
+    xoptc = xopt
     atil = atil0
     activation()
 }
@@ -93,10 +105,10 @@ DERIVATIVE states {
 PROCEDURE rates() {
     : eq 8 with exponentials only: 0.5 (1 + tanh(u)) = 1/(1 + exp(-2u)), cosh(v) = (e^v + e^-v)/2
     LOCAL x, ev
-    x = caspt/T0
+    x = caspt/T0c
     Ainf = 1/(1 + exp(-2*(x - C1)/C2))
     ev = exp((x - C4)/(2*C5))
-    if (nrn_pointing(tauA_gain)) {
+    if (use_ports) {
         kA = 0.5*(ev + 1/ev)/C3/tauA_gain
     } else {
         kA = 0.5*(ev + 1/ev)/C3
@@ -113,8 +125,8 @@ PROCEDURE activation() {
     if (movcomp && t >= onset) {
         alpha_t = alpha + alpha1*(1 + tanh((t - onset - alpha2)/alpha3))
         A = pow(at, alpha_t)
-        if (xm <= xopt && vm >= 0) {
-            ph = phi1*xm + phi2
+        if (xm <= xoptc && vm >= 0) {
+            ph = phi1c*xm + phi2c
             A = A/((1 + beta*ph)*(1 + gamma*vm))
         }
         if (A < Afloor) {

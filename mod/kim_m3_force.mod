@@ -11,18 +11,25 @@ Here XCE starts at the initial muscle length, so dXm - dXCE = Xm - XCE and the r
 (the spec's "start both references at the trial's length").
 Units: lengths mm, forces N, velocities mm/s (the CE state moves in mm/ms = velocity/1000), KSE /mm.
 
-The Mashima asymptote.  Eq 11's denominator vanishes at F = Fa = (2 + c0/P0) Fc and changes sign beyond it
-(the published code then lets XCE run at 1e5 mm/s).  Here eq 11 is used up to Fl = Fc + asym (Fa - Fc)
-(asym = 0.95) and continued beyond it by its tangent line, capped at vmax (mm/s): the CE yields fast and
-monotonically, with no division blow-up.  Each fixed step spent beyond Fl is counted in nasym so the caller can
-report it.  With no activation (Fc = 0) a taut SE makes the CE yield at vmax and a slack one does nothing.
+The Mashima asymptote.  Eq 11's denominator vanishes at F = Fa = (2 + c0/P0) Fc: in the continuous model the
+CE yields ever faster as F nears Fa, so F stays below it however fast the muscle is stretched.  The model used
+here is eqs 10-11 up to Fl = Fc + asym (Fa - Fc) (asym = 0.95) and beyond Fl the tangent of eq 11 at Fl, capped
+at vmax (mm/s): a steep, monotone eccentric saturation equal to eqs 10-11 below 95 % of the asymptote, with no
+division blow-up (the published code lets XCE run at 1e5 mm/s past Fa instead).  CVODE integrates exactly this
+right-hand side.  The fixed step uses the linearly implicit step below; when that step would end beyond Fl (the
+steep part, where a linearised step overshoots), and at the SE's slack/taut boundary (where the Hill hyperbola
+bends so sharply that a linearised step stalls at F = 0), it takes a backward-Euler step of the same equation
+instead, solving F + k h v(F) = k (Xm - XCE) for the step's end force F (k = P0 KSE; safeguarded Newton), so the
+force follows the saturation and cannot run past it.  nasym counts the fixed steps
+that end beyond Fl: information (the CE was yielding), not an error.  With no activation (Fc = 0) a taut SE
+makes the CE yield at vmax and a slack one does nothing.
 
 Coupling: POINTER act -> activation A (1) of an excitation mechanism (KimAct, or any model exposing A);
           POINTER xm   -> muscle length (mm) of a MuscleLength point process;
           POINTER force_offset -> modulation port (N): a history-dependent element in parallel with the CE-SE
                    (force enhancement after stretch, depression after shortening) adds force_offset to the
-                   output F = Fse + force_offset; the CE-SE dynamics see Fse only.  Unused, it points at this
-                   mechanism's RANGE zero (= 0), and x + 0 is exact: off is bit-identical.
+                   output F = Fse + force_offset; the CE-SE dynamics see Fse only.  Read only when use_ports = 1
+                   (set by the Python wiring, which points it at RANGE zero when unused), else 0.
 Numerics: fixed step: one linearly implicit (Rosenbrock-Euler) step with the exact dv/dF (L-stable for the
 stiff SE-CE loop at low activation); CVODE: exact right-hand side written a - b XCE (see KimCa).
 ENDCOMMENT
@@ -30,7 +37,7 @@ ENDCOMMENT
 NEURON {
     POINT_PROCESS KimForce
     THREADSAFE
-    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, F0, zero
+    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, F0, zero, use_ports
     RANGE F, Fse, Fc, vce, nasym
     POINTER act, xm, force_offset
 }
@@ -48,6 +55,7 @@ PARAMETER {
     asym = 0.95 (1)
     F0 = 0 (N)
     zero = 0 (N)
+    use_ports = 0 (1)
 }
 
 ASSIGNED {
@@ -65,6 +73,7 @@ ASSIGNED {
     bb (/ms)
     dfdx (/ms)
     kse (N/mm)
+    fend (N)
     xmc (mm)
     gc (1)
     xl (mm)
@@ -113,12 +122,72 @@ DERIVATIVE states {
             aa = (xl - xce)/dt
         }
         bb = 0
-        if (vce > 0 && Fse > 1e-3*P0 && Fse > Fc + asym*(Fc*(2 + c0/P0) - Fc)) {
-            nasym = nasym + 1
+        if (Fc > 0) {
+            fend = kse*(xl - xce - dt*aa)
+            if (fend > Fc + asym*(Fc*(2 + c0/P0) - Fc)) {
+                : the step would end on the steep saturation: backward Euler there (no overshoot)
+                implicit_step(dt)
+                nasym = nasym + 1
+            } else if (Fse <= 0 || fend <= 0) {
+                : slack, or at the SE's slack/taut boundary, where the Hill hyperbola bends sharply (pole at
+                : F = -a0 Fc/P0): a linearised step (or stopping where the SE becomes taut) stalls at F = 0
+                : while the CE should take up the slack and load the SE; backward Euler does not stall
+                implicit_step(dt)
+            }
         }
     }
     xce' = aa - bb*xce
     se_force()
+}
+
+PROCEDURE implicit_step(h (ms)) {
+    : a backward-Euler step of the CE: aa = (XCE(t+h) - XCE)/h with F(t+h) the root of
+    : g(F) = F + k h v(F)/1000 - k (xl - xce), increasing in F.  If g(0) >= 0 the SE is slack at the step's end
+    : and the CE moves at v(0); else the root lies in (0, max(k (xl - xce), Fc)): Newton steps kept inside the
+    : shrinking bracket, else bisection, to 1e-13 relative
+    LOCAL lo, hi, f, g, dg, i, rhs, fsave, done
+    fsave = Fse
+    rhs = kse*(xl - xce)
+    Fse = 0
+    velocity()
+    g = kse*h*vce/(1000) - rhs
+    if (g >= 0) {
+        aa = vce/(1000)
+    } else {
+        lo = 0*rhs
+        hi = rhs
+        if (Fc > hi) {
+            hi = Fc
+        }
+        f = 0.5*(lo + hi)
+        i = 0
+        done = 0
+        WHILE (i < 100 && done == 0) {
+            Fse = f
+            velocity()
+            g = f + kse*h*vce/(1000) - rhs
+            UNITSOFF
+            if (fabs(g) <= 1e-13*hi || hi - lo <= 1e-13*hi) {
+            UNITSON
+                done = 1
+            } else {
+                if (g > 0) {
+                    hi = f
+                } else {
+                    lo = f
+                }
+                dg = 1 + kse*h*dvdF/(1000)
+                f = f - g/dg
+                if (f <= lo || f >= hi) {
+                    f = 0.5*(lo + hi)
+                }
+            }
+            i = i + 1
+        }
+        aa = (xl - f/kse - xce)/h
+    }
+    Fse = fsave
+    velocity()
 }
 
 PROCEDURE se_force() {
@@ -126,14 +195,11 @@ PROCEDURE se_force() {
     if (Fse < 0) {
         Fse = 0
     }
-    : a hoc user who leaves the port unset gets no offset (nrn_pointing), never a crash
-    UNITSOFF
-    if (nrn_pointing(force_offset)) {
+    if (use_ports) {
         F = Fse + force_offset
     } else {
         F = Fse
     }
-    UNITSON
     if (xl != xmc) {
         : force-length factor g(Xm) (eq 12), recomputed only when the length changes
         gc = exp(-((xl - g1)/g2)^2)

@@ -123,14 +123,18 @@ class MuscleUnit:
                                      f"{slot}); combine them in one extension")
                 driven[port] = f"{slot}.{var}"
         for slot, comp in self.components.items():
+            modulated = False
             for port in comp.reads:
                 key = f"{slot}.{port.name}"
+                modulated |= key in driven
                 source = driven.pop(key, port.source)
                 if source is None:
                     ref = comp.ref(port.neutral)  # an unused modulation port: the mechanism's neutral value
                 else:
                     ref = self.ref(source)
                 setattr(comp.obj, f"_ref_{port.name}", ref)
+            if modulated:
+                comp.obj.use_ports = 1.0  # the mechanism reads its ports only when an extension drives one
         if driven:
             raise InputError(f"{self.name}: extension targets {sorted(driven)} name no port of this unit")
 

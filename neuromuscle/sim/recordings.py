@@ -33,6 +33,7 @@ class Recorder:
         self.record_dt_ms = record_dt_ms
         # time itself is not recorded (a record of t belongs to no thread): samples are at k * record_dt_ms
         self._vectors = {n: h.Vector() for n in names}
+        self._refs = {n: unit.ref(n) for n in names}
         self._stride = 1
         if every_step_dt_ms is not None:
             self._stride = max(1, int(round(record_dt_ms / every_step_dt_ms)))
@@ -48,8 +49,19 @@ class Recorder:
                 v.record(owner, unit.ref(n))
 
     def arrays(self, duration_ms: float) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-        """Sample times (ms) and the recorded traces, all of the same length."""
-        out = {k: np.array(v)[::self._stride] for k, v in self._vectors.items()}
-        n = min(len(v) for v in out.values())
-        out = {k: v[:n] for k, v in out.items()}
+        """Sample times (ms) k * record_dt_ms for k = 0 .. floor(duration_ms / record_dt_ms), the end included
+        whatever the integrator (NEURON's interval recording may stop one sample short of tstop, depending on
+        rounding and on the method), and the traces at those times.  Call right after the run: a missing last
+        sample is the variable's value at the end of the run."""
+        n = int(np.floor(duration_ms / self.record_dt_ms + 1e-9)) + 1
+        out = {}
+        for k, v in self._vectors.items():
+            a = np.array(v)[::self._stride]
+            if a.size < n:
+                a = np.concatenate([a, np.full(n - a.size, float(self._refs[k][0]))]) if a.size == n - 1 else a
+            out[k] = a[:n]
+        short = [k for k, v in out.items() if v.size != n]
+        if short:
+            raise RuntimeError(f"recording of {short} holds fewer samples than 0..{duration_ms} ms every "
+                               f"{self.record_dt_ms} ms")
         return np.arange(n) * self.record_dt_ms, out

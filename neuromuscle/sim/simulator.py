@@ -107,6 +107,10 @@ class Simulator:
         h.secondorder = 0
         if pc.nthread() != self.nthread:
             pc.nthread(self.nthread)
+        # also under CVODE: stdrun and interval recording use dt and steps_per_ms, so a caller's values must
+        # not leak into the run
+        h.dt = self.dt_ms
+        h.steps_per_ms = 1.0 / self.dt_ms
         if self.method == "cvode":
             cv.active(1)
             cv.atol(self.atol)
@@ -115,8 +119,6 @@ class Simulator:
                 cv.atolscale(name, scale)
         else:
             cv.active(0)
-            h.dt = self.dt_ms
-            h.steps_per_ms = 1.0 / self.dt_ms
 
     # -- running -------------------------------------------------------------------------------------------
     def run(self, duration_ms: float, units: Iterable[Any] = (), cvode_events_ms: Sequence[float] = ()) -> float:
