@@ -12,21 +12,14 @@ from ..parameters import ParameterSet
 def synthetic_module2_set(params: ParameterSet, noise_N: float = 0.02, seed: int = 0) -> list:
     """The standard synthetic calibration set: a twitch and 10/20/40 Hz 0.5 s trains at the optimum (g1),
     1 ms samples over 0.9 s, simulated with ``params`` plus Gaussian noise (sd noise_N, N) from ``seed``."""
-    from ..fit import trial_simulation
-    from ..measured import Trial
+    from ..fit import synthetic_trial
 
     rng = np.random.default_rng(seed)
     t = np.arange(0.0, 0.9, 0.001)
-    trials = []
-    for tid, stims in (("twitch", [0.05]), ("train10", np.arange(0.05, 0.55, 0.1)),
-                       ("train20", np.arange(0.05, 0.55, 0.05)), ("train40", np.arange(0.05, 0.55, 0.025))):
-        tr = Trial(trial_id=tid, protocol="twitch" if tid == "twitch" else "train", time_s=t,
-                   force=np.zeros_like(t), force_unit="N", length_unit="mm", length_const=params["g1"],
-                   stimulus_times_s=np.asarray(stims, dtype=float))
-        f = trial_simulation(params, tr, 0.05, settle_ms=300.0)
-        tr.force = f + rng.normal(0.0, noise_N, f.size)
-        trials.append(tr)
-    return trials
+    return [synthetic_trial(params, tid, t, stims, protocol="twitch" if tid == "twitch" else "train",
+                            length_mm=params["g1"], noise_N=noise_N, rng=rng, settle_ms=300.0)
+            for tid, stims in (("twitch", [0.05]), ("train10", np.arange(0.05, 0.55, 0.1)),
+                               ("train20", np.arange(0.05, 0.55, 0.05)), ("train40", np.arange(0.05, 0.55, 0.025)))]
 
 
 def bench_fit(params: ParameterSet, free: tuple[str, ...] = ("C1", "C2", "C3", "alpha"),

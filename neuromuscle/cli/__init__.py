@@ -1,4 +1,4 @@
-"""Command line: ``neuromuscle simulate | fit | data check | twitch-to-tetanus | bench ... | info``.
+"""Command line: ``neuromuscle simulate | fit | data check | data example | twitch-to-tetanus | bench ... | info``.
 
 One module per command, each with ``add_parser(subparsers)`` and ``run(args) -> exit code``.  A NeuromuscleError
 becomes a one-line message on stderr and exit code 2.

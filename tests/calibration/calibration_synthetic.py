@@ -6,20 +6,17 @@ import numpy as np
 
 from neuromuscle.calibration import (FORCE_LENGTH_PATH, FORCE_VELOCITY_PATH, gaussian_force_length, hill_tension,
                                      mashima_tension)
-from neuromuscle.fit import SimulationOptions, trial_simulation
-from neuromuscle.measured import MeasuredData, Trial
+from neuromuscle.fit import SimulationOptions, synthetic_trial
+from neuromuscle.measured import MeasuredData
 
 DT = 0.1
 SETTLE = 300.0
 OPTS = SimulationOptions(dt_ms=DT, record_dt_ms=0.5, settle_ms=SETTLE)
 
 def _trial(params, tid, protocol, t, stims, length_const=None, length=None, noise=0.0, rng=None):
-    tr = Trial(trial_id=tid, protocol=protocol, time_s=t, force=np.zeros_like(t), force_unit="N",
-               length_unit="mm", length_const=length_const, length=length,
-               stimulus_times_s=np.asarray(stims, dtype=float))
-    f = trial_simulation(params, tr, DT, record_dt_ms=0.5 if length is None else DT, settle_ms=SETTLE)
-    tr.force = f + (rng.normal(0.0, noise, f.size) if noise else 0.0)
-    return tr
+    return synthetic_trial(params, tid, t, stims, protocol=protocol, length_mm=length_const, length=length,
+                           noise_N=noise, rng=rng, dt_ms=DT, record_dt_ms=0.5 if length is None else DT,
+                           settle_ms=SETTLE)
 
 
 def synthetic_data(params, noise=0.005, seed=1, full=True) -> MeasuredData:

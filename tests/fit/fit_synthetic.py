@@ -3,8 +3,8 @@
 
 import numpy as np
 
-from neuromuscle.fit import SimulationOptions, trial_simulation
-from neuromuscle.measured import Trial
+from neuromuscle import fit
+from neuromuscle.fit import SimulationOptions
 
 OPTS = SimulationOptions(dt_ms=0.1, settle_ms=200.0)
 NOISE_N = 0.02
@@ -14,12 +14,10 @@ def synthetic_trial(params, tid, stim_s, length_mm=-8.0, duration_s=0.3, seed=0,
                     protocol="twitch"):
     """A synthetic measured trial: CT09 force at 1 ms samples plus Gaussian noise (sd NOISE_N)."""
     t = np.arange(0.0, duration_s, 0.001)
-    kw = dict(length_const=length_mm) if length is None else dict(length=length(t))
-    tr = Trial(trial_id=tid, protocol=protocol, time_s=t, force=np.zeros_like(t), force_unit="N",
-               length_unit="mm", stimulus_times_s=np.asarray(stim_s, dtype=float), **kw)
-    f = trial_simulation(params, tr, OPTS.dt_ms, settle_ms=OPTS.settle_ms)
-    tr.force = f + np.random.default_rng(seed).normal(0.0, NOISE_N, f.size)
-    return tr
+    return fit.synthetic_trial(params, tid, t, stim_s, protocol=protocol,
+                               length_mm=length_mm if length is None else None,
+                               length=None if length is None else length(t), noise_N=NOISE_N,
+                               rng=np.random.default_rng(seed), dt_ms=OPTS.dt_ms, settle_ms=OPTS.settle_ms)
 
 
 def far_start(ct09):
