@@ -24,12 +24,14 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
+import os
 import platform
 import re
 import shutil
 import subprocess
 import sys
 import tempfile
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -113,15 +115,18 @@ def pulses(protocol: str, duration_ms: float) -> np.ndarray:
 
 @dataclass
 class Run:
-    """One protocol on n identically driven units: t (ms), force (N, units x samples), wall time (s)."""
+    """One protocol on n identically driven units: t (ms), force (N, units x samples), wall and CPU time of the
+    integration (s)."""
 
     t_ms: np.ndarray
     force_N: np.ndarray
     wall_s: float
+    cpu_s: float
     duration_ms: float
 
-    def s_per_unit_second(self) -> float:
-        return self.wall_s / (self.force_N.shape[0] * self.duration_ms / 1000.0)
+    def per_unit_second(self, seconds: float) -> float:
+        """``seconds`` (s) per simulated unit-second."""
+        return seconds / (self.force_N.shape[0] * self.duration_ms / 1000.0)
 
     def measures(self, protocol: str, stimulus_ms: float) -> dict[str, np.ndarray]:
         """Per unit: twitch peak (N), time to peak and half-relaxation (ms) for the twitch; else the plateau
@@ -168,7 +173,7 @@ def run_published(library: Path, inputs: list[str], work: Path, protocol: str, u
     if not np.all(out["spike_counts"] == spikes.size) or spikes.size != len(spec["pulses_ms"]):
         raise SystemExit(f"published {protocol}: spike counts {out['spike_counts']} for {len(spec['pulses_ms'])} "
                          "pulses")
-    run = Run(out["t_ms"], out["force_N"], float(out["wall_s"]), duration_ms)
+    run = Run(out["t_ms"], out["force_N"], float(out["wall_s"]), float(out["cpu_s"]), duration_ms)
     shutil.rmtree(rundir)  # 267184's variant writes two text files every step
     return run, spikes, out["release_over_own"], json.loads(str(out["defaults"]))
 
@@ -186,10 +191,12 @@ def run_package(spikes_ms: np.ndarray, units: int, duration_ms: float) -> Run:
             u.add_spike_times(spikes_ms)
             forces.append(h.Vector().record(u.ref("force.F")))
         tvec = h.Vector().record(h._ref_t)
+        start_cpu = time.process_time()
         wall = Simulator(method="fixed", dt_ms=DT_MS).run(duration_ms, units=made)
+        cpu = time.process_time() - start_cpu
         if any(int(u["ca"].obj.nspike) != spikes_ms.size for u in made):
             raise SystemExit("package: a unit did not receive every spike")
-        return Run(np.array(tvec), np.array([np.array(f) for f in forces]), wall, duration_ms)
+        return Run(np.array(tvec), np.array([np.array(f) for f in forces]), wall, cpu, duration_ms)
     finally:
         for u in made:
             u.destroy()
@@ -208,6 +215,7 @@ def compare(published: Path, units: int, duration_ms: float, reference: bool) ->
     if duration_ms < PLATEAU_MS[1]:
         raise SystemExit(f"--duration-ms must be at least {PLATEAU_MS[1]:g} ms (the plateau window ends there)")
     folder = find_published(published)
+    load = f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores at the start"
     with tempfile.TemporaryDirectory(prefix="published-") as tmp:
         library, changes, inputs = compile_published(folder, Path(tmp))
         runs = {}
@@ -219,13 +227,16 @@ def compare(published: Path, units: int, duration_ms: float, reference: bool) ->
     lines = [f"Published code: {folder} (module1_2.mod sha256 {_digest(folder / MOD_FILES[0])}); changes to the "
              f"copies: {'; '.join(changes) or 'none'}; input files created: {', '.join(inputs) or 'none'}; "
              f"published defaults differing from CT09: {differing or 'none'}.",
-             f"{_versions()}; {units} units per process, {duration_ms:g} ms at dt {DT_MS} ms, CT09 at "
+             f"{_versions()}; {load}; {units} units per process, {duration_ms:g} ms at dt {DT_MS} ms, CT09 at "
              f"{LENGTH_MM:g} mm; spike times as the published code stored them: twitch "
              f"{runs['twitch'].spikes_ms[0]:g} ms, trains from {runs['10 Hz'].spikes_ms[0]:g} ms.", ""]
-    lines += table(["protocol", "package (s per unit-second)", "published (s per unit-second)",
-                    "published / package", "largest gap between first units' traces (% of peak)",
-                    f"published release / own eq 3, units 1..{units} (last step)"],
+    lines += table(["s per simulated unit-second", "package wall", "published wall", "published / package",
+                    "package CPU", "published CPU", "published / package (CPU)"],
                    [_speed_row(name, pr) for name, pr in runs.items()]) + [""]
+    lines += table(["protocol", "largest gap between the first units' traces before the first spike, and "
+                    "from it on (% of the published peak)",
+                    f"published release / its own eq 3, units 1..{units} (last step)"],
+                   [_gap_row(name, pr) for name, pr in runs.items()]) + [""]
     rows, spread = [], []
     for name, pr in runs.items():
         mine = pr.package.measures(name, pr.spikes_ms[0])
@@ -243,19 +254,28 @@ def compare(published: Path, units: int, duration_ms: float, reference: bool) ->
 
 
 def _speed_row(name: str, pr: Protocol) -> tuple[str, ...]:
-    ours, theirs = pr.package.s_per_unit_second(), pr.published.s_per_unit_second()
-    gap = np.max(np.abs(pr.package.force_N[0] - pr.published.force_N[0])) / pr.published.force_N[0].max()
+    cells = []
+    for what in ("wall_s", "cpu_s"):
+        ours = pr.package.per_unit_second(getattr(pr.package, what))
+        theirs = pr.published.per_unit_second(getattr(pr.published, what))
+        cells += [f"{ours:.4f}", f"{theirs:.3f}", f"{theirs / ours:.1f}x"]
+    return (name, *cells)
+
+
+def _gap_row(name: str, pr: Protocol) -> tuple[str, ...]:
+    gap = 100 * np.abs(pr.package.force_N[0] - pr.published.force_N[0]) / pr.published.force_N[0].max()
+    after = pr.published.t_ms >= pr.spikes_ms[0]
     ratios = pr.release_over_own
     shown = ", ".join(f"{r:.3f}" for r in ratios) if ratios.size <= 3 else \
         f"{ratios[0]:.3f}, {ratios[1]:.3f}, ..., {ratios[-1]:.3f}"
-    return name, f"{ours:.4f}", f"{theirs:.3f}", f"{theirs / ours:.1f}x", f"{100 * gap:.2f}", shown
+    return name, f"{gap[~after].max():.2g}, {gap[after].max():.2g}", shown
 
 
 def _reference(name: str, spikes_ms: np.ndarray, p: ParameterSet) -> dict[str, float]:
     """SciPy's measures for the same spike times: the twitch's, or the train's plateau mean."""
     end = spikes_ms[0] + 280.0 if name == "twitch" else PLATEAU_MS[1]
     ref = reference_simulate(p, spikes_ms[spikes_ms < end], LENGTH_MM, end, record_dt_ms=DT_MS)
-    run = Run(ref.t_ms, ref.force_N[None, :], float("nan"), end)
+    run = Run(ref.t_ms, ref.force_N[None, :], float("nan"), float("nan"), end)
     measures = run.measures(name, spikes_ms[0])
     return {k: float(v[0]) for k, v in measures.items() if "largest" not in k}
 
