@@ -3,7 +3,7 @@ measured on this machine.  The published code is not part of this repository.
 
 Run from the repository root:
     python docs/validation/compare_published.py PATH [--units 20] [--duration-ms 5000] [--no-reference]
-PATH: a folder holding the authors' module1_2.mod and module3.mod (and Xm.mod), or a checkout of ModelDB 266732
+PATH: a folder holding the authors' module1_2.mod, module3.mod and Xm.mod, or a checkout of ModelDB 266732
 (its fig*/ folders hold identical copies; the first is used).  The mod files are copied into a temporary folder,
 changed only where NEURON >= 9 requires it (a FUNCTION name listed in RANGE is dropped from the list, as the
 ModelDB maintainers did in 267184), and compiled there with nrnivmodl; input files the published INITIAL block
@@ -11,12 +11,13 @@ reads (267184's co-simulation variant) are created holding 0 (no earlier spikes,
 
 Three protocols, each with --units identically driven units in one process, --duration-ms at dt 0.025 ms, CT09
 at -8 mm (the published code fixes its reference lengths and the phi breakpoint at -8 mm): a twitch at 500 ms,
-10 Hz and 40 Hz from 500 ms to the end.  The published units run in a subprocess (published_worker.py: their
-mechanism names would clash with nothing here, but one process per library keeps the timing clean); this
-package's units (MuscleUnit + Simulator) receive the spike times the published code stored.  Every published
-parameter with a CT09 counterpart is set to the CT09 value.  Prints Markdown: wall time per simulated
-unit-second, twitch and plateau of the first unit of each against each other (and SciPy's, same spike times),
-and the spread across the identically driven units.  Units: N, ms, s.
+10 Hz and 40 Hz from 500 ms to the end.  The published units run in a process of their own per protocol
+(published_worker.py: two mechanism libraries in one NEURON process must not clash in any name, and a fresh
+process keeps the published code's state and timing apart); this package's units (MuscleUnit + Simulator)
+receive the spike times the published code stored.  Every published parameter with a CT09 counterpart is set to
+the CT09 value.  Prints Markdown: wall and CPU time per simulated unit-second, twitch and plateau of the first
+unit of each against each other (and SciPy's, same spike times), and the spread across the identically driven
+units.  Units: N, ms, s.
 """
 
 from __future__ import annotations
@@ -62,12 +63,14 @@ PUBLISHED_GLOBALS = {"CS0_CaSP": "CS0", "B0_CaSP": "B0", "T0_CaSP": "T0"}
 
 
 def find_published(path: Path) -> Path:
-    """The folder holding module1_2.mod and module3.mod: ``path`` itself or its first subfolder that does."""
+    """The folder holding MOD_FILES: ``path`` itself or its first subfolder (by name) that does."""
+    if not path.is_dir():
+        raise SystemExit(f"{path} is not a folder (get ModelDB 266732: https://github.com/ModelDBRepository/266732)")
     for folder in [path] + sorted(p for p in path.iterdir() if p.is_dir()):
-        if all((folder / f).is_file() for f in MOD_FILES[:2]):
+        if all((folder / f).is_file() for f in MOD_FILES):
             return folder
-    raise SystemExit(f"{path}: no folder with module1_2.mod and module3.mod here or one level down "
-                     "(get ModelDB 266732, e.g. https://github.com/ModelDBRepository/266732)")
+    raise SystemExit(f"{path}: no folder with {', '.join(MOD_FILES)} here or one level down "
+                     "(get ModelDB 266732: https://github.com/ModelDBRepository/266732)")
 
 
 def neuron9_fix(text: str) -> tuple[str, list[str]]:
@@ -91,14 +94,15 @@ def compile_published(folder: Path, work: Path) -> tuple[Path, list[str], list[s
     build.mkdir()
     changes, inputs = [], []
     for name in MOD_FILES:
-        if not (folder / name).is_file():
-            continue
         text, dropped = neuron9_fix((folder / name).read_text(errors="replace"))
         if dropped:
             changes.append(f"{name}: {', '.join(dropped)} dropped from RANGE")
         inputs += re.findall(r'fopen\("([^"]+)",\s*"r', text)
         (build / name).write_text(text)
-    done = subprocess.run(["nrnivmodl"], cwd=build, capture_output=True, text=True)
+    nrnivmodl = shutil.which("nrnivmodl", path=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+    if nrnivmodl is None:
+        raise SystemExit("nrnivmodl not found: install NEURON (pip install neuron)")
+    done = subprocess.run([nrnivmodl], cwd=build, capture_output=True, text=True)
     libs = sorted(build.glob("*/libnrnmech.*"))
     if done.returncode != 0 or not libs:
         raise SystemExit(f"nrnivmodl failed on the published mod files:\n{done.stdout[-3000:]}{done.stderr[-3000:]}")
