@@ -88,8 +88,8 @@ def plateau_row(rates_hz: list[int], spec: dict) -> Row:
             sim = simulate(p, spikes, -8.0, 1500.0, method=method, dt_ms=DT_MS, record_dt_ms=0.1)
             neuron[method].append(plateau(sim.t_ms, sim.force_N, 1300.0, 1500.0)[0] / p["P0"])
     label = "/".join(str(r) for r in rates_hz) + " Hz plateau (P0)"
-    return Row(label, tuple(f"{r} Hz" for r in rates_hz), tuple(scipy), {m: tuple(v) for m, v in neuron.items()},
-               tuple(spec[r] for r in rates_hz))
+    return Row(label, tuple(f"{r} Hz plateau" for r in rates_hz), tuple(scipy),
+               {m: tuple(v) for m, v in neuron.items()}, tuple(spec[r] for r in rates_hz))
 
 
 def dt_convergence(dts_ms: tuple[float, ...]) -> list[tuple[float, float]]:
@@ -125,7 +125,8 @@ def largest_deviation(rows: list[Row], against: str) -> tuple[float, str]:
             for what, v, b in zip(row.measures, values, base):
                 if abs(v / b - 1.0) > worst[0]:
                     how = "CVODE" if method == "cvode" else "fixed step"
-                    worst = (abs(v / b - 1.0), f"{row.label}, {what}, {how}")
+                    where = f"{row.label}: {what}" if row.is_twitch else what
+                    worst = (abs(v / b - 1.0), f"{where}, {how}")
     return worst
 
 
