@@ -11,18 +11,18 @@ Here XCE starts at the initial muscle length, so dXm - dXCE = Xm - XCE and the r
 (the spec's "start both references at the trial's length").
 Units: lengths mm, forces N, velocities mm/s (the CE state moves in mm/ms = velocity/1000), KSE /mm.
 
-The Mashima asymptote.  Eq 11's denominator vanishes at F = Fa = (2 + c0/P0) Fc: in the continuous model the
-CE yields ever faster as F nears Fa, so F stays below it however fast the muscle is stretched.  The model used
-here is eqs 10-11 up to Fl = Fc + asym (Fa - Fc) (asym = 0.95) and beyond Fl the tangent of eq 11 at Fl, capped
-at vmax (mm/s): a steep, monotone eccentric saturation equal to eqs 10-11 below 95 % of the asymptote, with no
-division blow-up (the published code lets XCE run at 1e5 mm/s past Fa instead).  CVODE integrates exactly this
-right-hand side.  The fixed step uses the linearly implicit step below; when that step would end beyond Fl (the
-steep part, where a linearised step overshoots), and at the SE's slack/taut boundary (where the Hill hyperbola
-bends so sharply that a linearised step stalls at F = 0), it takes a backward-Euler step of the same equation
-instead, solving F + k h v(F) = k (Xm - XCE) for the step's end force F (k = P0 KSE; safeguarded Newton), so the
-force follows the saturation and cannot run past it.  nasym counts the fixed steps
-that end beyond Fl: information (the CE was yielding), not an error.  With no activation (Fc = 0) a taut SE
-makes the CE yield at vmax and a slack one does nothing.
+The Mashima asymptote.  Eq 11's denominator vanishes at F = Fa = (2 + c0/P0) Fc: as F nears Fa the CE yields
+ever faster, so the force stays below Fa however fast the muscle is stretched (the published code lets XCE run
+at 1e5 mm/s past Fa instead).  Here eq 11 is used as it stands up to Fa, its velocity capped at vmax (1e5 mm/s,
+beyond any muscle): v = min(d0 (F - Fc)/(Fa - F), vmax), and vmax from Fa on.  The force therefore stays below
+the point where eq 11 reaches vmax, a hair under Fa, unless the muscle is stretched faster than vmax.  CVODE
+integrates exactly this right-hand side.  The fixed step uses the linearly implicit step below; where that
+step would end beyond Fl = Fc + asym (Fa - Fc) (asym = 0.95: the steep part, where a linearised step
+overshoots the pole), and at the SE's slack/taut boundary (where the Hill hyperbola bends so sharply that a
+linearised step stalls at F = 0), it takes a backward-Euler step of the same equation instead, solving
+F + k h v(F) = k (Xm - XCE) for the step's end force F (k = P0 KSE; safeguarded Newton).  nasym counts the fixed
+steps that end beyond Fl: information (the CE was yielding), not an error.  With no activation (Fc = 0) a taut
+SE makes the CE yield at vmax and a slack one does nothing.
 
 Coupling: POINTER act -> activation A (1) of an excitation mechanism (KimAct, or any model exposing A);
           POINTER xm   -> muscle length (mm) of a MuscleLength point process;
@@ -212,8 +212,8 @@ PROCEDURE se_force() {
 }
 
 PROCEDURE velocity() {
-    : CE velocity vce (mm/s) of eqs 10-11 and dvdF = d vce / dF, continued past the Mashima asymptote
-    LOCAL Fa, Fl, vl, sl
+    : CE velocity vce (mm/s) of eqs 10-11 and dvdF = d vce / dF: eq 11 up to its asymptote Fa, capped at vmax
+    LOCAL Fa
     if (Fc <= 0) {
         dvdF = 0
         if (Fse > 0) {
@@ -226,19 +226,15 @@ PROCEDURE velocity() {
         dvdF = b0*Fc*(1 + a0/P0)/((Fse + a0*Fc/P0)*(Fse + a0*Fc/P0))
     } else {
         Fa = (2 + c0/P0)*Fc
-        Fl = Fc + asym*(Fa - Fc)
-        if (Fse <= Fl) {
+        if (Fse < Fa) {
             vce = d0*(Fse - Fc)/(Fa - Fse)
             dvdF = d0*(Fa - Fc)/((Fa - Fse)*(Fa - Fse))
         } else {
-            vl = d0*(Fl - Fc)/(Fa - Fl)
-            sl = d0*(Fa - Fc)/((Fa - Fl)*(Fa - Fl))
-            vce = vl + sl*(Fse - Fl)
-            dvdF = sl
-            if (vce > vmax) {
-                vce = vmax
-                dvdF = 0
-            }
+            vce = vmax
+        }
+        if (vce >= vmax) {
+            vce = vmax
+            dvdF = 0
         }
     }
 }

@@ -67,7 +67,11 @@ def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: Le
     z = (c * p["K"]) ** 2
     U = _port(mod, "uptake_gain", t) * p["Umax"] * (z / (1.0 + c * p["K"] + z)) ** 2
     x = float(np.interp(t, trace.t_ms, trace.xm_mm))
-    v = float(np.interp(t, trace.t_ms, trace.velocity_mm_s))
+    v = float(np.interp(t, trace.t_ms, trace.velocity_mm_s))  # the played Vm of eq 20
+    # the SE sees the length NEURON plays (linear between samples): its exact slope, so that the integral of
+    # the muscle's velocity is Xm itself (a sampled velocity would make the SE drift)
+    k = min(max(int(np.searchsorted(trace.t_ms, t, side="right")) - 1, 0), trace.t_ms.size - 2)
+    dx = 1000.0 * (trace.xm_mm[k + 1] - trace.xm_mm[k]) / (trace.t_ms[k + 1] - trace.t_ms[k])
     K5 = p["K5i"] * (_phi(x, p) if lencomp else 1.0)
     K6 = p["K6i"] / (1.0 + 5.0 * At)
     sr = p["K1"] * CaSR * (p["CS0"] - CaSRCS) - p["K2"] * CaSRCS
@@ -81,7 +85,7 @@ def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: Le
     Fc = float(force_length(x, p["g1"], p["g2"], p["P0"])) * A
     # the SE extension Xm - XCE (mm) is the state here: it resolves the tiny forces at rest that an
     # absolute CE length (~ -8 mm) would hide below the tolerance
-    return [-sr - R + U, sr, -st - sb + R - U, sb, st, (ainf - At) / tau, (v - ce_velocity(F, Fc, p)) / 1000.0]
+    return [-sr - R + U, sr, -st - sb + R - U, sb, st, (ainf - At) / tau, (dx - ce_velocity(F, Fc, p)) / 1000.0]
 
 
 def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: LengthTrace | float,

@@ -37,21 +37,18 @@ def mashima_velocity(F: ArrayLike, Fc: ArrayLike, c0: float, d0: float, P0: floa
     return -d0 * (Fc - F) / (2.0 * Fc - F + c0 * Fc / P0)
 
 
-def ce_velocity(F: float, Fc: float, params: Mapping[str, float], asym: float = 0.95,
-                vmax: float = 1e5) -> float:
-    """CE velocity (mm/s) of eqs 10-11 at SE force F (N) and CE capacity Fc (N), with the Mashima asymptote
-    continued by its tangent beyond Fc + asym (Fa - Fc) and capped at vmax (as documented in KimForce)."""
+def ce_velocity(F: float, Fc: float, params: Mapping[str, float], vmax: float = 1e5) -> float:
+    """CE velocity (mm/s) of eqs 10-11 at SE force F (N) and CE capacity Fc (N): Hill below Fc, Mashima above
+    it up to its asymptote Fa = (2 + c0/P0) Fc, the velocity capped at vmax (mm/s) and vmax from Fa on (as
+    documented in mod/kim_m3_force.mod)."""
     if Fc <= 0.0:
         return vmax if F > 0.0 else 0.0
     if F <= Fc:
         return hill_velocity(F, Fc, params["a0"], params["b0"], params["P0"])
     Fa = (2.0 + params["c0"] / params["P0"]) * Fc
-    Fl = Fc + asym * (Fa - Fc)
-    if F <= Fl:
-        return mashima_velocity(F, Fc, params["c0"], params["d0"], params["P0"])
-    vl = params["d0"] * (Fl - Fc) / (Fa - Fl)
-    sl = params["d0"] * (Fa - Fc) / (Fa - Fl) ** 2
-    return min(vl + sl * (F - Fl), vmax)
+    if F >= Fa:
+        return vmax
+    return min(mashima_velocity(F, Fc, params["c0"], params["d0"], params["P0"]), vmax)
 
 
 def hill_tension(v: ArrayLike, a0: float, b0: float, P0: float) -> ArrayLike:

@@ -154,6 +154,10 @@ class Component:
         """Settings other than parameters that change the model (for provenance)."""
         return {}
 
+    def input_warnings(self, trace: Any, params: Mapping[str, float] | None) -> list[str]:
+        """Warnings about the run's inputs (e.g. a length where the model can make no force), before it runs."""
+        return []
+
     def run_warnings(self) -> list[str]:
         """Things the user should know after a run (read from the mechanism's counters)."""
         return []

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
@@ -39,18 +40,33 @@ def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTra
     record_dt_ms (ms).  method/dt_ms/atol/rtol build the ``Simulator`` unless ``simulator`` is given.
     """
     sim = simulator if simulator is not None else Simulator(method=method, dt_ms=dt_ms, atol=atol, rtol=rtol)
+    sim = replace(sim, label=f"parameter set {getattr(params, 'name', '?')!r}")
     if not np.isfinite(record_dt_ms) or record_dt_ms <= 0:
         raise InputError(f"record_dt_ms must be finite and > 0, got {record_dt_ms}")
     if not np.isfinite(duration_ms) or duration_ms <= 0:
         raise InputError(f"duration_ms must be finite and > 0, got {duration_ms}")
+    if sim.method == "fixed" and record_dt_ms < sim.dt_ms:
+        raise InputError(f"record_dt_ms = {record_dt_ms} ms is below the fixed step dt_ms = {sim.dt_ms} ms: samples "
+                         "between steps would repeat values; give record_dt_ms >= dt_ms")
     spikes = check_spike_times(spikes_ms)
+    late = spikes[spikes >= duration_ms]
+    notes = []
+    if late.size:
+        notes.append(f"{late.size} spike(s) at or after the end of the run ({duration_ms:g} ms; the first at "
+                     f"{late[0]:g} ms) are not delivered; lengthen duration_ms or drop them")
+        spikes = spikes[spikes < duration_ms]
     trace = as_length_trace(length, duration_ms)
     unit = MuscleUnit(params, excitation=excitation, contraction=contraction, extensions=extensions)
     try:
         _check_pulse_spacing(unit, spikes)
-        return _run(unit, spikes, trace, duration_ms, sim, record, record_dt_ms, provenance_extra or {})
+        notes += [w for c in unit.components.values() for w in c.input_warnings(trace, unit.params)]
+        result = _run(unit, spikes, trace, duration_ms, sim, record, record_dt_ms, provenance_extra or {})
     finally:
         unit.destroy()
+    for n in reversed(notes):
+        result.warnings.insert(0, n)
+    result.settings["n_spikes_not_delivered"] = int(late.size)
+    return result
 
 
 def _check_pulse_spacing(unit: MuscleUnit, spikes: np.ndarray) -> None:
@@ -97,9 +113,11 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
         raise NumericalError(f"{unit.name}: non-finite {bad[0]} at t = {t[i]:.3f} ms ({sim.method}, dt "
                              f"{sim.dt_ms} ms): the integration failed")
     warnings = [w for c in unit.components.values() for w in c.run_warnings()]
+    asym = sum(c.asymptote_steps() for c in unit.components.values() if hasattr(c, "asymptote_steps"))
     settings = {"duration_ms": duration_ms, **sim.settings(), "record_dt_ms": record_dt_ms,
                 "model": _model_description(unit), "extensions": list(unit.extension_names),
-                "movement_onset_ms": trace.onset_ms, "n_spikes": int(spikes.size)}
+                "movement_onset_ms": trace.onset_ms, "n_spikes": int(spikes.size),
+                "steps_on_eccentric_saturation": asym if sim.method == "fixed" else None}
     return SimulationResult(
         t_ms=t, traces=traces, units=recorder.units, output=unit.output, params=unit.params, settings=settings,
         warnings=warnings,

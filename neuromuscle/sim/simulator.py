@@ -23,6 +23,32 @@ from ..errors import InputError
 #: kernel (tau1 = 3 ms) and spike timing are resolved only below it: larger steps are refused, not tolerated.
 MAX_DT_MS = 0.2
 
+#: CVODE's default wall-time budget (s) of one run: this much plus DEFAULT_BUDGET_S_PER_S per simulated second.
+#: A CT09 unit takes about 0.05 s per simulated second under CVODE; the budget is three orders of magnitude more.
+DEFAULT_BUDGET_S = 60.0
+DEFAULT_BUDGET_S_PER_S = 60.0
+#: CVODE's default step budget of one run (a CT09 unit takes a few thousand steps per simulated second).
+DEFAULT_MAX_STEPS = 10_000_000
+
+#: The CVODE stepping loop (stdrun's continuerun without its extras, plus the budgets), in hoc: an event at tstop
+#: and one fadvance per CVODE step, as continuerun does, so the results are the same; startsw() is hoc's wall
+#: clock (s).
+#: Returns 0 when tstop ($1) is reached, 1 when the wall budget ($2, s) is spent, 2 after $3 steps.
+_CVODE_LOOP = """
+func neuromuscle_cvode_run() { local wall0, n
+    wall0 = startsw()
+    n = 0
+    cvode.event($1)
+    while (t < $1) {
+        fadvance()
+        n = n + 1
+        if (startsw() - wall0 > $2) { return 1 }
+        if (n >= $3) { return 2 }
+    }
+    return 0
+}
+"""
+
 #: NEURON has no getter for ParallelContext.set_maxstep: after a run the interval is put back to this value,
 #: larger than any run, which is how a serial psolve behaves before anyone sets it.
 MAXSTEP_AFTER_RUN_MS = 1e9
@@ -41,7 +67,13 @@ class Simulator:
     """How to integrate: ``method`` "fixed" (step ``dt_ms``, ms) or "cvode" (variable step, ``atol`` in each
     state's atolscale units, ``rtol``); ``nthread`` NEURON threads; ``maxstep_ms`` the psolve interval (ms; with
     MPI the spike-exchange interval, capped by NEURON at the smallest NetCon delay); ``v_init_mV`` the membrane
-    potential every section starts from (mV; None leaves each segment's v as it is, enough for a muscle alone)."""
+    potential every section starts from (mV; None leaves each segment's v as it is, enough for a muscle alone).
+
+    CVODE cannot hang: each run has a wall-time budget ``max_wall_s`` (s) and a step budget ``max_steps``, checked
+    after every CVODE step; a run that spends either stops with a NumericalError naming ``label`` and the time
+    reached.  The default wall budget (-1) is ``DEFAULT_BUDGET_S`` plus ``DEFAULT_BUDGET_S_PER_S`` per simulated
+    second; None means none.  ``cvode_minstep_ms`` is NEURON's CVode.minstep (0: CVODE's own limit); a failing
+    CVODE step is reported the same way."""
 
     method: str = "fixed"
     dt_ms: float = 0.025
@@ -50,6 +82,10 @@ class Simulator:
     nthread: int = 1
     maxstep_ms: float = 10.0
     v_init_mV: float | None = None
+    max_wall_s: float | None = -1.0
+    max_steps: int = DEFAULT_MAX_STEPS
+    cvode_minstep_ms: float = 0.0
+    label: str = "run"
 
     def __post_init__(self) -> None:
         if self.method not in ("fixed", "cvode"):
@@ -63,6 +99,19 @@ class Simulator:
                              f"{MAX_DT_MS} ms: the 3 ms release kernel must be resolved); give a smaller dt_ms")
         if isinstance(self.nthread, bool) or not isinstance(self.nthread, int) or self.nthread < 1:
             raise InputError(f"nthread must be an integer >= 1, got {self.nthread!r}")
+        if self.max_wall_s is not None and self.max_wall_s != -1.0 and not (self.max_wall_s > 0):
+            raise InputError(f"max_wall_s must be > 0 s, None (no budget) or -1 (the default), got "
+                             f"{self.max_wall_s!r}")
+        if isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int) or self.max_steps < 1:
+            raise InputError(f"max_steps must be an integer >= 1, got {self.max_steps!r}")
+        if not (self.cvode_minstep_ms >= 0):
+            raise InputError(f"cvode_minstep_ms must be >= 0 ms, got {self.cvode_minstep_ms!r}")
+
+    def budget_s(self, duration_ms: float) -> float | None:
+        """The wall-time budget (s) of a CVODE run of duration_ms (ms)."""
+        if self.max_wall_s == -1.0:
+            return DEFAULT_BUDGET_S + DEFAULT_BUDGET_S_PER_S * duration_ms / 1000.0
+        return self.max_wall_s
 
     def settings(self) -> dict[str, Any]:
         """The integrator settings as recorded in provenance (None where the method ignores one)."""
@@ -81,6 +130,7 @@ class Simulator:
         pc = h.ParallelContext()
         return {"dt": h.dt, "steps_per_ms": h.steps_per_ms, "secondorder": h.secondorder,
                 "cvode_active": cv.active(), "atol": cv.atol(), "rtol": cv.rtol(), "nthread": pc.nthread(),
+                "minstep": cv.minstep(),
                 "atolscale": {name: cv.atolscale(name) for name, _ in _registered_states()}}
 
     @staticmethod
@@ -90,6 +140,7 @@ class Simulator:
         cv = h.CVode()
         pc = h.ParallelContext()
         cv.active(saved["cvode_active"])
+        cv.minstep(saved["minstep"])
         cv.atol(saved["atol"])
         cv.rtol(saved["rtol"])
         for name, scale in saved["atolscale"].items():
@@ -113,12 +164,37 @@ class Simulator:
         h.steps_per_ms = 1.0 / self.dt_ms
         if self.method == "cvode":
             cv.active(1)
+            cv.minstep(self.cvode_minstep_ms)
             cv.atol(self.atol)
             cv.rtol(self.rtol)
             for name, scale in _registered_states():
                 cv.atolscale(name, scale)
         else:
             cv.active(0)
+
+    def _cvode_with_budget(self, duration_ms: float) -> None:
+        from neuron import h
+
+        from ..errors import NumericalError
+
+        if not h.name_declared("neuromuscle_cvode_run"):
+            h(_CVODE_LOOP)
+        budget = self.budget_s(duration_ms)
+        try:
+            status = h.neuromuscle_cvode_run(duration_ms, 1e300 if budget is None else budget,
+                                             float(self.max_steps))
+        except RuntimeError as exc:
+            raise NumericalError(f"{self.label}: CVODE failed at t = {h.t:.6g} ms of {duration_ms:g} ms (atol "
+                                 f"{self.atol:g}, rtol {self.rtol:g}): {str(exc).splitlines()[0][:200]}; use the "
+                                 "fixed step or loosen atol") from None
+        if status == 1:
+            raise NumericalError(f"{self.label}: CVODE spent its wall-time budget of {budget:.3g} s and reached only "
+                                 f"t = {h.t:.6g} ms of {duration_ms:g} ms (atol {self.atol:g}); raise max_wall_s, "
+                                 "loosen atol, or use the fixed step")
+        if status == 2:
+            raise NumericalError(f"{self.label}: CVODE took its budget of {self.max_steps} steps and reached only "
+                                 f"t = {h.t:.6g} ms of {duration_ms:g} ms (atol {self.atol:g}); raise max_steps, "
+                                 "loosen atol, or use the fixed step")
 
     # -- running -------------------------------------------------------------------------------------------
     def run(self, duration_ms: float, units: Iterable[Any] = (), cvode_events_ms: Sequence[float] = ()) -> float:
@@ -146,7 +222,7 @@ class Simulator:
                 for t in cvode_events_ms:
                     h.CVode().event(float(t))
                 start = time.perf_counter()
-                h.continuerun(duration_ms)
+                self._cvode_with_budget(duration_ms)
             else:  # psolve steps in C: no per-step hoc interpreter loop
                 pc = h.ParallelContext()
                 pc.set_maxstep(self.maxstep_ms)
