@@ -110,12 +110,14 @@ def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: Leng
     y = y0
     for a, b in zip(edges[:-1], edges[1:]):
         sel = t_eval[(t_eval >= a) & (t_eval < b)] if b < duration_ms else t_eval[t_eval >= a]
-        sol = solve_ivp(_rhs, (a, b), y, method="Radau", rtol=rtol, atol=_ATOL, t_eval=sel, max_step=1.0,
+        # integrate to b itself: the next segment starts from the state at b, not at the last sample before it
+        ask = sel if sel.size and sel[-1] >= b else np.append(sel, b)
+        sol = solve_ivp(_rhs, (a, b), y, method="Radau", rtol=rtol, atol=_ATOL, t_eval=ask, max_step=1.0,
                         args=(p, spikes, trace, length_compensation, movement_compensation, mod))
         if sol.status != 0:
             raise RuntimeError(f"reference integration failed on {a}..{b} ms: {sol.message}")
-        ys.append(sol.y)
-        ts.append(sol.t)
+        ys.append(sol.y[:, :sel.size])
+        ts.append(sol.t[:sel.size])
         y = sol.y[:, -1]
     Y = np.concatenate(ys, axis=1)
     t = np.concatenate(ts)
