@@ -33,7 +33,7 @@ NEURON {
     THREADSAFE
     RANGE K1, K2, K3, K4, K5i, K6i, K, Rmax, Umax, tau1, tau2, CS0, B0, T0, CaSR0
     RANGE phi1, phi2, phi3, phi4, xopt, lencomp
-    RANGE R, U, K5, K6, phi, nspike, unity, use_ports
+    RANGE R, U, K5, K6, phi, nspike, unity, use_ports, rest
     POINTER atil, xm, release_gain, uptake_gain
 }
 
@@ -65,6 +65,7 @@ PARAMETER {
     lencomp = 1 (1)
     unity = 1 (1)
     use_ports = 0 (1)
+    rest = 1 (1)
 }
 
 ASSIGNED {
@@ -101,8 +102,21 @@ STATE {
 }
 
 INITIAL {
-    CaSR = CaSR0
-    CaSRCS = 0
+    LOCAL bq
+    if (rest) {
+        : the resting steady state: no release, so the pump has returned every ion to the SR (CaSP = CaSPB =
+        : CaSPT = 0) and the SR's calcium CaSR0 is shared between free CaSR and calsequestrin (eq 2 at rest:
+        : K1 CaSR (CS0 - CaSRCS) = K2 CaSRCS, CaSR + CaSRCS = CaSR0), the positive root of a quadratic
+        bq = K1*(CS0 - CaSR0) + K2
+        UNITSOFF
+        CaSR = 2*K2*CaSR0/(bq + sqrt(bq*bq + 4*K1*K2*CaSR0))
+        UNITSON
+        CaSRCS = CaSR0 - CaSR
+    } else {
+        : the published initial state (seed 001): all SR calcium free; it settles within ~100 ms
+        CaSR = CaSR0
+        CaSRCS = 0
+    }
     CaSP = 0
     CaSPB = 0
     CaSPT = 0

@@ -28,7 +28,7 @@ NEURON {
     POINT_PROCESS KimAct
     THREADSAFE
     RANGE C1, C2, C3, C4, C5, alpha, alpha1, alpha2, alpha3, beta, gamma
-    RANGE movcomp, onset, Afloor, unity, use_ports
+    RANGE movcomp, onset, Afloor, unity, use_ports, rest
     RANGE A, alpha_t, Ainf, tauA, atil0
     POINTER caspt, xm, vm, T0, phi1, phi2, xopt, tauA_gain
     RANGE T0c, phi1c, phi2c, xoptc
@@ -56,6 +56,7 @@ PARAMETER {
     atil0 = 0 (1)
     unity = 1 (1)
     use_ports = 0 (1)
+    rest = 1 (1)
 }
 
 ASSIGNED {
@@ -88,7 +89,14 @@ INITIAL {
     phi1c = phi1
     phi2c = phi2
     xoptc = xopt
-    atil = atil0
+    if (rest) {
+        : at rest Atil sits at its steady state for the resting [CaSPT] (KimCa's INITIAL has run: KimCa is
+        : registered first)
+        rates()
+        atil = Ainf
+    } else {
+        atil = atil0
+    }
     activation()
 }
 

@@ -19,8 +19,10 @@ the point where eq 11 reaches vmax, a hair under Fa, unless the muscle is stretc
 integrates exactly this right-hand side.  The fixed step uses the linearly implicit step below; where that
 step would end beyond Fl = Fc + asym (Fa - Fc) (asym = 0.95: the steep part, where a linearised step
 overshoots the pole), and at the SE's slack/taut boundary (where the Hill hyperbola bends so sharply that a
-linearised step stalls at F = 0), it takes a backward-Euler step of the same equation instead, solving
-F + k h v(F) = k (Xm - XCE) for the step's end force F (k = P0 KSE; safeguarded Newton).  nasym counts the fixed
+linearised step stalls at F = 0), and on eq 11 wherever the force would move by more than lincurv (2 %) of its
+distance to the pole within one step (fast eccentric motion), it takes a backward-Euler step of the same
+equation instead, solving F + k h v(F) = k (Xm - XCE) for the step's end force F (k = P0 KSE; safeguarded
+Newton).  Isometric and shortening trials never meet these cases, so their numbers are unchanged.  nasym counts the fixed
 steps that end beyond Fl: information (the CE was yielding), not an error.  With no activation (Fc = 0) a taut
 SE makes the CE yield at vmax and a slack one does nothing.
 
@@ -37,7 +39,7 @@ ENDCOMMENT
 NEURON {
     POINT_PROCESS KimForce
     THREADSAFE
-    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, F0, zero, use_ports
+    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, F0, zero, use_ports, rest
     RANGE F, Fse, Fc, vce, nasym
     POINTER act, xm, force_offset
 }
@@ -53,9 +55,11 @@ PARAMETER {
     d0 = 30.3 (mm/s)
     vmax = 1e5 (mm/s)
     asym = 0.95 (1)
+    lincurv = 0.02 (1)
     F0 = 0 (N)
     zero = 0 (N)
     use_ports = 0 (1)
+    rest = 1 (1)
 }
 
 ASSIGNED {
@@ -74,6 +78,7 @@ ASSIGNED {
     dfdx (/ms)
     kse (N/mm)
     fend (N)
+    Fasym (N)
     xmc (mm)
     gc (1)
     xl (mm)
@@ -87,9 +92,16 @@ STATE {
 INITIAL {
     xl = xm
     al = act
-    xce = xl - F0/(P0*KSE)
-    nasym = 0
     xmc = 1e9
+    xce = xl
+    se_force()
+    if (rest) {
+        : isometric equilibrium with the initial activation: the SE carries the CE's force Fc (no creep)
+        xce = xl - Fc/(P0*KSE)
+    } else {
+        xce = xl - F0/(P0*KSE)
+    }
+    nasym = 0
     se_force()
 }
 
@@ -124,10 +136,15 @@ DERIVATIVE states {
         bb = 0
         if (Fc > 0) {
             fend = kse*(xl - xce - dt*aa)
-            if (fend > Fc + asym*(Fc*(2 + c0/P0) - Fc)) {
+            Fasym = (2 + c0/P0)*Fc
+            if (fend > Fc + asym*(Fasym - Fc)) {
                 : the step would end on the steep saturation: backward Euler there (no overshoot)
                 implicit_step(dt)
                 nasym = nasym + 1
+            } else if ((fend > Fc || Fse > Fc) && fabs((fend - Fse)/(1 (N))) > lincurv*(Fasym - fmax(fend, Fse))/(1 (N))) {
+                : on eq 11 the force moves by more than lincurv of its distance to the pole within the step:
+                : the linearised step is poor there (fast eccentric motion); backward Euler is not
+                implicit_step(dt)
             } else if (Fse <= 0 || fend <= 0) {
                 : slack, or at the SE's slack/taut boundary, where the Hill hyperbola bends sharply (pole at
                 : F = -a0 Fc/P0): a linearised step (or stopping where the SE becomes taut) stalls at F = 0
@@ -138,6 +155,14 @@ DERIVATIVE states {
     }
     xce' = aa - bb*xce
     se_force()
+}
+
+FUNCTION fmax(a (N), b (N)) (N) {
+    if (a > b) {
+        fmax = a
+    } else {
+        fmax = b
+    }
 }
 
 PROCEDURE implicit_step(h (ms)) {

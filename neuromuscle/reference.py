@@ -88,10 +88,28 @@ def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: Le
     return [-sr - R + U, sr, -st - sb + R - U, sb, st, (ainf - At) / tau, (dx - ce_velocity(F, Fc, p)) / 1000.0]
 
 
+def _initial_state(p: ParameterSet, trace: LengthTrace, kind: str, lencomp: bool, movcomp: bool) -> np.ndarray:
+    """y0: seed 001's published state (all SR calcium free, nothing bound, no force), or the resting steady
+    state: no sarcoplasmic calcium, the SR's CaSR0 shared with calsequestrin (eq 2 at rest), Atil at its steady
+    state for [CaSPT] = 0 (eq 8), and the SE carrying the CE's force at the initial length (eqs 9-12)."""
+    if kind == "published":
+        return np.array([p["CaSR0"], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+    if kind != "rest":
+        raise ValueError(f"initial_state must be 'rest' or 'published', got {kind!r}")
+    b = p["K1"] * (p["CS0"] - p["CaSR0"]) + p["K2"]
+    casr = (-b + np.sqrt(b * b + 4.0 * p["K1"] * p["K2"] * p["CaSR0"])) / (2.0 * p["K1"])
+    atil = 0.5 * (1.0 + np.tanh((0.0 - p["C1"]) / p["C2"]))
+    x0 = float(trace.xm_mm[0])
+    fc = float(force_length(x0, p["g1"], p["g2"], p["P0"])) * activation(atil, 0.0, x0, 0.0, p, movcomp,
+                                                                            trace.onset_ms)
+    return np.array([casr, p["CaSR0"] - casr, 0.0, 0.0, 0.0, atil, fc / (p["P0"] * p["KSE"])])
+
+
 def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: LengthTrace | float,
                        duration_ms: float, *, record_dt_ms: float = 0.025, length_compensation: bool = True,
                        movement_compensation: bool = False, rtol: float = 1e-8,
-                       modulation: Mapping[str, Callable[[float], float]] | None = None) -> ReferenceResult:
+                       modulation: Mapping[str, Callable[[float], float]] | None = None,
+                       initial_state: str = "rest") -> ReferenceResult:
     """Integrate the model with scipy Radau from the published initial state (ms, mm, N, M).  ``modulation``
     maps port names (``NEUTRAL_PORTS``) to functions of t (ms): an extension's twin (its
     ``reference_modulation``); the output force is the SE force plus force_offset(t) (N)."""
@@ -102,7 +120,7 @@ def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: Leng
     trace = length if isinstance(length, LengthTrace) else LengthTrace.isometric(float(length), duration_ms)
     spikes = np.asarray(spikes_ms, dtype=float)
     p = params
-    y0 = np.array([p["CaSR0"], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+    y0 = _initial_state(p, trace, initial_state, length_compensation, movement_compensation)
     t_eval = np.arange(0.0, duration_ms + 0.5 * record_dt_ms, record_dt_ms)
     # integrate piecewise between spikes so the solver never steps across a release onset
     edges = np.unique(np.concatenate([[0.0], spikes[(spikes > 0) & (spikes < duration_ms)], [duration_ms]]))

@@ -187,7 +187,8 @@ def run_package(spikes_ms: np.ndarray, units: int, duration_ms: float) -> Run:
     from neuron import h
 
     p = load_parameters("CT09")
-    made = [MuscleUnit(p, name=f"pkg{i}") for i in range(units)]
+    # the published code starts from seed 001's initial state: so does the package here
+    made = [MuscleUnit(p, name=f"pkg{i}", initial_state="published") for i in range(units)]
     try:
         forces = []
         for u in made:

@@ -108,22 +108,16 @@ def parse_extensions(items: list[str]) -> dict[str, dict[str, float]]:
 
 
 def _plot(result, path: Path, title: str) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from ..reports.figures import label_axes, new_figure, save_figure, set_title
 
     panels = [(result.force_N, "force (N)" if result.output == "force.F" else "moment (N m)", "k"),
               (result.A, "activation A (1)", "C0"), (result.length_mm, "length Xm (mm)", "C1")]
-    fig, axes = plt.subplots(len(panels), 1, sharex=True, figsize=(7, 6))
-    for ax, (y, label, colour) in zip(axes, panels):
+    fig, axes = new_figure(len(panels), sharex=True)
+    for i, (ax, (y, label, colour)) in enumerate(zip(axes, panels)):
         ax.plot(result.t_ms, y, colour)
-        ax.set_ylabel(label)
-    axes[-1].set_xlabel("time (ms)")
-    axes[0].set_title(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+        label_axes(ax, x="time (ms)" if i == len(panels) - 1 else None, y=label)
+    set_title(axes[0], title)
+    save_figure(fig, path)
 
 
 def run(args: argparse.Namespace) -> int:

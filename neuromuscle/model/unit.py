@@ -33,6 +33,9 @@ CONTRACTIONS = {"kim": kim_contraction, "hatze": hatze_contraction}
 
 Model = Mapping[str, Component] | str | None
 
+#: How a unit starts: its resting steady state at the initial length, or seed 001's published initial state.
+INITIAL_STATES = {"rest": 1.0, "published": 0.0}
+
 
 def _slots(model: Model, table: Mapping[str, Any], what: str) -> dict[str, Component]:
     if model is None:
@@ -56,11 +59,14 @@ class MuscleUnit:
     Component.  extensions: {canonical name: {parameter: value}} (see ``neuromuscle.model.extensions``).
     length_source: a MuscleLength hoc object to share (one per rank in a pool); a private one if None.
     section: the NEURON section hosting the point processes; a private one-segment section if None.
+    initial_state: "rest" (default: every mechanism starts at its resting steady state at the initial length,
+    so nothing creeps before the first spike) or "published" (seed 001's initial state: all SR calcium free,
+    Atil = 0, no force; it settles within ~100 ms: the spec's "unsettled twitch" reference).
     """
 
     def __init__(self, params: Mapping[str, float], *, excitation: Model = None, contraction: Model = None,
                  extensions: Mapping[str, Mapping[str, float]] | None = None, length_source: Any = None,
-                 section: Any = None, name: str = "unit") -> None:
+                 section: Any = None, name: str = "unit", initial_state: str = "rest") -> None:
         from ..parameters import ParameterSet
 
         if not isinstance(params, ParameterSet):
@@ -101,6 +107,12 @@ class MuscleUnit:
             comp.instantiate(seg, params)
             self.components[slot] = comp
         self._wire(exts)
+        if initial_state not in INITIAL_STATES:
+            raise InputError(f"{name}: initial_state must be one of {', '.join(INITIAL_STATES)}, got {initial_state!r}")
+        self.initial_state = initial_state
+        for comp in self.components.values():
+            if comp.obj is not None and hasattr(comp.obj, "rest"):
+                comp.obj.rest = INITIAL_STATES[initial_state]
         self._netcons: list[Any] = []
         self._spike_times: list[np.ndarray] = []
 

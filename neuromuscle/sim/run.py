@@ -30,7 +30,7 @@ def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTra
              *, excitation: Model = None, contraction: Model = None,
              extensions: Mapping[str, Mapping[str, float]] | None = None, record: Sequence[str] | None = None,
              record_dt_ms: float = 0.1, method: str = "fixed", dt_ms: float = 0.025, atol: float = 1e-3,
-             rtol: float = 1e-6, simulator: Simulator | None = None,
+             rtol: float = 1e-6, simulator: Simulator | None = None, initial_state: str = "rest",
              provenance_extra: dict | None = None) -> SimulationResult:
     """Simulate one unit from 0 to duration_ms (ms).
 
@@ -38,6 +38,7 @@ def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTra
     length (mm), played continuously into the unit's MuscleLength.  excitation/contraction/extensions: as
     ``MuscleUnit``.  record: names "slot.variable" (default ``default_recordings``), sampled every
     record_dt_ms (ms).  method/dt_ms/atol/rtol build the ``Simulator`` unless ``simulator`` is given.
+    initial_state: "rest" (the resting steady state at the initial length) or "published" (seed 001's).
     """
     sim = simulator if simulator is not None else Simulator(method=method, dt_ms=dt_ms, atol=atol, rtol=rtol)
     sim = replace(sim, label=f"parameter set {getattr(params, 'name', '?')!r}")
@@ -56,7 +57,8 @@ def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTra
                      f"{late[0]:g} ms) are not delivered; lengthen duration_ms or drop them")
         spikes = spikes[spikes < duration_ms]
     trace = as_length_trace(length, duration_ms)
-    unit = MuscleUnit(params, excitation=excitation, contraction=contraction, extensions=extensions)
+    unit = MuscleUnit(params, excitation=excitation, contraction=contraction, extensions=extensions,
+                      initial_state=initial_state)
     try:
         _check_pulse_spacing(unit, spikes)
         notes += [w for c in unit.components.values() for w in c.input_warnings(trace, unit.params)]
@@ -116,6 +118,7 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
     asym = sum(c.asymptote_steps() for c in unit.components.values() if hasattr(c, "asymptote_steps"))
     settings = {"duration_ms": duration_ms, **sim.settings(), "record_dt_ms": record_dt_ms,
                 "model": _model_description(unit), "extensions": list(unit.extension_names),
+                "initial_state": unit.initial_state,
                 "movement_onset_ms": trace.onset_ms, "n_spikes": int(spikes.size),
                 "steps_on_eccentric_saturation": asym if sim.method == "fixed" else None}
     return SimulationResult(

@@ -6,7 +6,9 @@ when the numerics change on purpose, and say so in the commit):
   fixed step and CVODE (Hatze's excitation moved by 8.8e-6 of peak when its STATE assignment left DERIVATIVE);
 - the backward-Euler CE step at the SE's slack boundary and on the eccentric saturation (issue 11) then moved
   fixed-step traces by at most 8e-8 of peak in isometric trials and 0.26 % under random length; CVODE unchanged
-  (eq 11 now runs up to its asymptote, capped at vmax, instead of a tangent past 95 % of it).
+  (eq 11 now runs up to its asymptote, capped at vmax, instead of a tangent past 95 % of it);
+- units then started from rest by default (issue 12), which removes the first ~100 ms of creep: the traces
+  changed there; initial_state="published" reproduces the previous ones.
 """
 
 from pathlib import Path

@@ -47,12 +47,17 @@ def test_stretch_hold_against_scipy_and_cvode(ct09):
 
 
 def test_force_stays_below_the_mashima_asymptote_under_fast_stretch(ct09):
+    """2000 mm/s: F stays below (2 + c0/P0) Fc.  The fixed step reports F after the step's length change and
+    before the CE's yield in that step (NEURON's order: the played length, then the state update), so it may
+    stand above by at most the SE's stretch in one step, P0 KSE v dt."""
     ramp = isokinetic_ramp(-10.0, 0.0, 2000.0, 400.0, 600.0)
-    for method in ("fixed", "cvode"):
+    one_step = ct09["P0"] * ct09["KSE"] * 2000.0 * 0.025 / 1000.0  # N
+    for method, slack in (("fixed", one_step), ("cvode", 1e-9)):
         r = simulate(ct09, constant_rate(100, 500.0, start_ms=50.0), ramp, 600.0, method=method,
                      record=("force.F", "force.Fc"))
         fa = (2.0 + ct09["c0"] / ct09["P0"]) * r["force.Fc"]
-        assert np.all(r.force_N <= fa * (1 + 1e-9) + 1e-12), method
+        assert np.all(r.force_N <= fa + slack), method
+        assert np.max(r.force_N / np.maximum(fa, 1e-12)) > 0.95, method  # it did reach the saturation
 
 
 def test_cvode_budgets_stop_with_a_clear_error(ct09):
