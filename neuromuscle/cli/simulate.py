@@ -139,7 +139,12 @@ def run(args: argparse.Namespace) -> int:
     out.parent.mkdir(parents=True, exist_ok=True)
     result.save(out, overwrite=args.overwrite)
     png = Path(args.png) if args.png else out.with_suffix(".png")
-    title = f"{params.name}, {proto['protocol']} at {lproto['length']} length"
+    what = {"train": f"{args.rate_hz:g} Hz train", "random-train": f"random train, mean {args.rate_hz:g} Hz",
+            "twitch": "twitch", "file": f"spikes from {Path(args.protocol).name}"}[proto["protocol"]]
+    where = {"isometric": f"isometric at {args.xm_mm:g} mm", "step": f"{args.step_mm:g} mm step shortening",
+             "ramp": f"{args.ramp_mm:+g} mm ramp at {args.velocity_mm_s:g} mm/s",
+             "random": f"random length (seed {args.seed})"}[lproto["length"]]
+    title = f"{params.name}: {what}, {where}"
     _plot(result, png, title)
     peak = float(result.force_N.max())
     print(f"{params.name}: {proto['protocol']} at {lproto['length']}, {result.t_ms[-1]:.0f} ms, "

@@ -90,6 +90,22 @@ def _library_in(build: Path) -> Path | None:
     return None
 
 
+def _run_with_progress(cmd: list[str], cwd: Path, every_s: float = 10.0) -> subprocess.CompletedProcess:
+    """Run ``cmd`` capturing its output, printing the elapsed time on stderr every ``every_s`` seconds."""
+    import time
+
+    start = time.monotonic()
+    with subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as p:
+        while True:
+            try:
+                out, err = p.communicate(timeout=every_s)
+                break
+            except subprocess.TimeoutExpired:
+                print(f"neuromuscle: ... still compiling ({time.monotonic() - start:.0f} s)", file=sys.stderr,
+                      flush=True)
+    return subprocess.CompletedProcess(cmd, p.returncode, out, err)
+
+
 def compiled_library() -> Path:
     """Path of ``libnrnmech.so`` for the current mod files, compiling it into the cache if needed."""
     key = f"{mechanism_hash()[:16]}-nrn{_neuron_version()}-{platform.machine()}"
@@ -107,8 +123,8 @@ def compiled_library() -> Path:
         for f in mod_files():
             shutil.copy2(f, tmp / f.name)
         print(f"neuromuscle: compiling {len(list(tmp.glob('*.mod')))} NMODL mechanisms with nrnivmodl into "
-              f"{target} (first use only; about a minute)...", file=sys.stderr, flush=True)
-        proc = subprocess.run([_nrnivmodl(), "."], cwd=tmp, capture_output=True, text=True)
+              f"{target} (first use only; about a minute)", file=sys.stderr, flush=True)
+        proc = _run_with_progress([_nrnivmodl(), "."], tmp)
         if proc.returncode != 0 or _library_in(tmp) is None:
             raise MechanismBuildError(
                 f"nrnivmodl failed in {tmp} (exit {proc.returncode}):\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}")

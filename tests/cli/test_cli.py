@@ -56,3 +56,27 @@ def test_standard_synthetic_fit_set(ct09):
     assert [t.trial_id for t in trials] == ["twitch", "train10", "train20", "train40"]
     peaks = [t.force.max() for t in trials]
     assert peaks == sorted(peaks) and peaks[-1] > 0.8 * ct09["P0"]
+
+
+def test_info_names_versions_mechanism_hash_and_cache(capsys):
+    from neuromuscle.model.mechanisms import cache_root, mechanism_hash
+
+    assert main(["info", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["mechanism_sha256"] == mechanism_hash() and doc["mechanism_cache"] == str(cache_root())
+    assert doc["versions"]["neuron"] and isinstance(doc["mpi4py_installed"], bool)
+
+
+def test_first_use_compiles_with_a_message_and_progress(tmp_path):
+    """A fresh cache: nrnivmodl runs, and stderr says so before and after (with elapsed-time lines while it
+    takes longer than the progress interval)."""
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "NEUROMUSCLE_CACHE": str(tmp_path / "cache")}
+    code = "from neuromuscle import load_mechanisms; load_mechanisms()"
+    out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env, capture_output=True, text=True,
+                         timeout=600)
+    assert out.returncode == 0, out.stderr
+    assert "neuromuscle: compiling" in out.stderr and "neuromuscle: mechanisms compiled." in out.stderr
