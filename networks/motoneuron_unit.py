@@ -10,6 +10,7 @@ import numpy as np
 from neuron import h
 
 from neuromuscle import MuscleUnit, Simulator, load_parameters
+from neuromuscle.reports.figures import label_axes, new_figure, save_figure, set_title
 
 
 def main(current_nA: float = 2.0, duration_ms: float = 1500.0, png: str = "motoneuron_unit.png") -> float:
@@ -27,19 +28,11 @@ def main(current_nA: float = 2.0, duration_ms: float = 1500.0, png: str = "moton
         force = np.array(f)
         peak = float(force.max())
         print(f"{int(unit['ca'].obj.nspike)} spikes, peak force {peak:.2f} N")
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        fig, ax = plt.subplots(figsize=(6, 3))
+        fig, (ax,) = new_figure(1)
         ax.plot(np.arange(force.size) * 0.5, force, "k")
-        ax.set_xlabel("time (ms)")
-        ax.set_ylabel("force (N)")
-        ax.set_title(f"HH motoneuron, {current_nA} nA step -> CT09 muscle unit")
-        fig.tight_layout()
-        fig.savefig(png, dpi=90)
-        plt.close(fig)
+        label_axes(ax, x="time (ms)", y="force (N)")
+        set_title(ax, f"HH motoneuron, {current_nA:g} nA step -> CT09 muscle unit")
+        save_figure(fig, png)
         del nc
     return peak
 
