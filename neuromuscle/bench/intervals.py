@@ -10,6 +10,10 @@ so the methods are compared on the same draws.  Reported per method and paramete
 draws whose interval holds the truth, with its exact binomial 95 % range), median half-width (% of the truth),
 and the SE's honesty (mean SE / SD of the estimates over draws); per parameter, the bias (mean relative error,
 %, with its SE over draws).
+
+``data="example"`` replaces the reference set by the protocols of the package's example file, made the way it
+is made (NEURON at dt 0.025 ms, :mod:`neuromuscle.measured.example`; base set ``example.BASE``): does a fit of
+that file hold the truth as often as it should?
 """
 
 from __future__ import annotations
@@ -24,11 +28,14 @@ import numpy as np
 from scipy.signal import lfilter
 from scipy.stats import binomtest
 
+from ..errors import InputError
 from ..measured import Trial
 from ..parameters import ParameterSet
 from .fit import MODULE2_SETTLE_MS, module2_protocol
 
 FREE = ("C1", "C2", "C3", "alpha")
+DATASETS = {"reference": "SciPy reference integration (neuromuscle.reference) of the standard Module 2 set, 1 kHz",
+            "example": "the example file's protocols as it is made (NEURON, dt 0.025 ms), 1 kHz"}
 DT_MS = 0.05
 RECORD_DT_MS = 0.5
 
@@ -86,18 +93,30 @@ def _fit_draw_star(args: tuple) -> dict[str, Any]:
     return fit_draw(*args)
 
 
+def noise_free_trials(base: ParameterSet, true_values: Mapping[str, float], data: str) -> list[Trial]:
+    """The noise-free trials of ``data`` (a key of ``DATASETS``) made with ``base`` moved to ``true_values``."""
+    if data == "reference":
+        return reference_module2_set(base.with_values(**dict(true_values)))
+    from ..measured import example
+
+    if data != "example" or base.name != example.BASE:
+        raise InputError(f"data must be one of {list(DATASETS)} ('example' with base {example.BASE}), got "
+                         f"{data!r} with base {base.name}")
+    return list(example.example_data(true_values, noise_N=0.0).trials.values())
+
+
 def coverage_study(base: ParameterSet, true_values: Mapping[str, float], draws: int = 8, workers: int = 2,
-                   noise_N: float = 0.02, tau_ms: float = 10.0, seed: int = 0,
-                   objective: str = "nrmse") -> dict[str, Any]:
-    """``draws`` fits of reference data of ``base`` with ``true_values`` plus AR(1) noise (noise_N, N; tau_ms,
-    ms), ``workers`` draws at a time; the coverage, half-width and bias of each interval method (module
-    docstring) and every draw's numbers."""
+                   noise_N: float = 0.02, tau_ms: float = 10.0, seed: int = 0, objective: str = "nrmse",
+                   data: str = "reference") -> dict[str, Any]:
+    """``draws`` fits of ``data`` (``DATASETS``) made with ``base`` moved to ``true_values`` plus AR(1) noise
+    (noise_N, N; tau_ms, ms), ``workers`` draws at a time; the coverage, half-width and bias of each interval
+    method (module docstring) and every draw's numbers."""
     from ..fit import INTERVAL_METHODS
 
     truth = base.with_values(**dict(true_values))
     t0 = time.perf_counter()
-    clean = reference_module2_set(truth)
-    reference_s = time.perf_counter() - t0
+    clean = noise_free_trials(base, true_values, data)
+    data_s = time.perf_counter() - t0
     jobs = [(base, clean, d, seed, noise_N, tau_ms, objective) for d in range(draws)]
     if workers > 1:
         with concurrent.futures.ProcessPoolExecutor(
@@ -111,7 +130,7 @@ def coverage_study(base: ParameterSet, true_values: Mapping[str, float], draws: 
     summary: dict[str, Any] = {m: _method_summary([r[m] for r in results], true, est) for m in INTERVAL_METHODS}
     return {
         "base_parameters": base.name, "true_values": true, "free": list(FREE), "objective": objective,
-        "data": "SciPy reference integration (neuromuscle.reference) of the standard Module 2 set, 1 kHz",
+        "data": DATASETS[data],
         "noise": {"kind": "AR(1)", "sd_N": noise_N, "correlation_time_ms": tau_ms, "seed": seed},
         "fit": {"dt_ms": DT_MS, "record_dt_ms": RECORD_DT_MS, "settle_ms": MODULE2_SETTLE_MS,
                 "start": {n: float(base[n]) for n in FREE}},
@@ -121,7 +140,7 @@ def coverage_study(base: ParameterSet, true_values: Mapping[str, float], draws: 
                             for i, n in enumerate(FREE)},
         "sd_percent": {n: float(np.std(rel[:, i], ddof=1)) if draws > 1 else float("nan")
                        for i, n in enumerate(FREE)},
-        "methods": summary, "reference_s": reference_s, "wall_s": time.perf_counter() - t0,
+        "methods": summary, "data_s": data_s, "wall_s": time.perf_counter() - t0,
         "per_draw": results,
     }
 
@@ -148,6 +167,7 @@ def coverage_lines(res: dict[str, Any]) -> list[str]:
     noise = res["noise"]
     lines = [f"{res['draws']} draws, AR(1) noise sd {noise['sd_N']} N, correlation time "
              f"{noise['correlation_time_ms']} ms, objective {res['objective']}, {res['wall_s']:.0f} s",
+             f"data: {res['data']}",
              f"{'method':16s} {'param':6s} {'coverage':>8s} {'(95 % range)':>14s} {'half-width %':>12s} "
              f"{'SE/SD':>6s} {'bias %':>7s}"]
     for m, s in res["methods"].items():

@@ -35,6 +35,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bi.add_argument("--tau-ms", type=float, default=10.0, help="noise correlation time (ms; 0: white)")
     bi.add_argument("--seed", type=int, default=0)
     bi.add_argument("--objective", default="nrmse", help="nrmse (the README's) or sse")
+    bi.add_argument("--data", default="reference",
+                    help="reference: the standard Module 2 set by the SciPy reference; example: the example file's "
+                         "protocols made as it is made (NEURON)")
     bi.add_argument("--per-draw", action="store_true", help="with --json: every draw's estimates and intervals")
     bi.add_argument("--json", action="store_true")
     bi.set_defaults(func=run)
@@ -52,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
         if draws < 2 or args.workers < 1:
             raise InputError(f"--draws must be >= 2 and --workers >= 1, got {draws} and {args.workers}")
         res = coverage_study(params, TRUE_VALUES, draws=draws, workers=args.workers, noise_N=args.noise_n,
-                             tau_ms=args.tau_ms, seed=args.seed, objective=args.objective)
+                             tau_ms=args.tau_ms, seed=args.seed, objective=args.objective, data=args.data)
         if not args.per_draw:
             res.pop("per_draw")
         print(json.dumps(res, indent=1) if args.json else "\n".join(coverage_lines(res)))
