@@ -24,7 +24,7 @@ Which covariance of the residuals (``covariance``, :data:`COVARIANCES`; the inte
   differ in variance (e.g. the NRMSE objective, which rescales each trial by its range).
 * ``model_error`` (optional, residual units): the model's own numerical error at the estimate (e.g. a
   fixed-step integrator's, see :mod:`.intervals`).  It biases the estimate by b = -(J^T J)^-1 J^T e
-  (``Uncertainty.numerical_bias``, parameter units); the interval is widened by |b| on the side of the truth,
+  (``Uncertainty.numerical_bias``, parameter units); the interval is widened by |b| towards est - b,
   so that it holds both the estimate's interval and the bias-corrected one.
 
 What each engine does its own way is a :class:`Rules` (the constructors keep each engine's rules as they were):
