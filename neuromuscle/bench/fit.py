@@ -9,17 +9,28 @@ import numpy as np
 from ..parameters import ParameterSet
 
 
+#: Settling time (ms) before the standard set's trials, in making them and in fitting them.
+MODULE2_SETTLE_MS = 300.0
+
+
+def module2_protocol() -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
+    """The standard calibration set's sample times (s: 1 ms over 0.9 s) and its trials: id and stimulus times
+    (s) of a twitch and 10/20/40 Hz 0.5 s trains."""
+    return np.arange(0.0, 0.9, 0.001), [
+        ("twitch", np.array([0.05])), ("train10", np.arange(0.05, 0.55, 0.1)),
+        ("train20", np.arange(0.05, 0.55, 0.05)), ("train40", np.arange(0.05, 0.55, 0.025))]
+
+
 def synthetic_module2_set(params: ParameterSet, noise_N: float = 0.02, seed: int = 0) -> list:
-    """The standard synthetic calibration set: a twitch and 10/20/40 Hz 0.5 s trains at the optimum (g1),
-    1 ms samples over 0.9 s, simulated with ``params`` plus Gaussian noise (sd noise_N, N) from ``seed``."""
+    """The standard synthetic calibration set (:func:`module2_protocol`) at the optimum (g1), simulated with
+    ``params`` plus Gaussian noise (sd noise_N, N) from ``seed``."""
     from ..fit import synthetic_trial
 
     rng = np.random.default_rng(seed)
-    t = np.arange(0.0, 0.9, 0.001)
+    t, trials = module2_protocol()
     return [synthetic_trial(params, tid, t, stims, protocol="twitch" if tid == "twitch" else "train",
-                            length_mm=params["g1"], noise_N=noise_N, rng=rng, settle_ms=300.0)
-            for tid, stims in (("twitch", [0.05]), ("train10", np.arange(0.05, 0.55, 0.1)),
-                               ("train20", np.arange(0.05, 0.55, 0.05)), ("train40", np.arange(0.05, 0.55, 0.025)))]
+                            length_mm=params["g1"], noise_N=noise_N, rng=rng, settle_ms=MODULE2_SETTLE_MS)
+            for tid, stims in trials]
 
 
 def bench_fit(params: ParameterSet, free: tuple[str, ...] = ("C1", "C2", "C3", "alpha"),
@@ -31,7 +42,7 @@ def bench_fit(params: ParameterSet, free: tuple[str, ...] = ("C1", "C2", "C3", "
 
     trials = synthetic_module2_set(params)
     problem = FitProblem(trials, params, list(free), start={n: params[n] * start_factor for n in free},
-                         options=SimulationOptions(dt_ms=0.05, settle_ms=300.0))
+                         options=SimulationOptions(dt_ms=0.05, settle_ms=MODULE2_SETTLE_MS))
     out: dict[str, Any] = {"parameter_set": params.name, "free": list(free), "start_factor": start_factor,
                            "trials": [tr.trial_id for tr in trials]}
     estimates = {}

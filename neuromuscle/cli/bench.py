@@ -1,9 +1,12 @@
-"""``neuromuscle bench unit | fit``: benchmarks; each default run takes about two minutes, ``--full`` longer."""
+"""``neuromuscle bench unit | fit | intervals``: benchmarks; each default run takes about two minutes, ``--full``
+longer."""
 
 from __future__ import annotations
 
 import argparse
 import json
+
+from ..errors import InputError
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -21,12 +24,42 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bf.add_argument("--params", default="CT09")
     bf.add_argument("--json", action="store_true")
     bf.set_defaults(func=run)
+    bi = bsub.add_parser("intervals", help="coverage of the fit's 95 %% intervals on SciPy reference data with "
+                                           "AR(1) noise, every interval method on the same draws")
+    bi.add_argument("--params", default="CT09", help="base set: the fits start from it; the truth is it with the "
+                                                    "example file's C1, C2, C3, alpha")
+    bi.add_argument("--draws", type=int, default=None, help="noise draws, one fit each (default 8; --full 40)")
+    bi.add_argument("--full", action="store_true", help="40 draws (tens of minutes on 2 cores)")
+    bi.add_argument("--workers", type=int, default=2, help="draws fitted at a time")
+    bi.add_argument("--noise-n", type=float, default=0.02, help="noise sd (N)")
+    bi.add_argument("--tau-ms", type=float, default=10.0, help="noise correlation time (ms; 0: white)")
+    bi.add_argument("--seed", type=int, default=0)
+    bi.add_argument("--objective", default="nrmse", help="nrmse (the README's) or sse")
+    bi.add_argument("--data", default="reference",
+                    help="reference: the standard Module 2 set by the SciPy reference; example: the example file's "
+                         "protocols made as it is made (NEURON)")
+    bi.add_argument("--per-draw", action="store_true", help="with --json: every draw's estimates and intervals")
+    bi.add_argument("--json", action="store_true")
+    bi.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..parameters import load_parameters
 
     params = load_parameters(args.params)
+    if args.what == "intervals":
+        from ..bench.intervals import coverage_lines, coverage_study
+        from ..measured.example import TRUE_VALUES
+
+        draws = args.draws if args.draws is not None else (40 if args.full else 8)
+        if draws < 2 or args.workers < 1:
+            raise InputError(f"--draws must be >= 2 and --workers >= 1, got {draws} and {args.workers}")
+        res = coverage_study(params, TRUE_VALUES, draws=draws, workers=args.workers, noise_N=args.noise_n,
+                             tau_ms=args.tau_ms, seed=args.seed, objective=args.objective, data=args.data)
+        if not args.per_draw:
+            res.pop("per_draw")
+        print(json.dumps(res, indent=1) if args.json else "\n".join(coverage_lines(res)))
+        return 0
     if args.what == "fit":
         from ..bench.fit import bench_fit
 

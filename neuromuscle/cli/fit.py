@@ -22,6 +22,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     fp.add_argument("--record-dt-ms", type=float, default=0.5, help="recording interval (ms)")
     fp.add_argument("--settle-ms", type=float, default=300.0, help="settling before each trial (ms)")
     fp.add_argument("--max-iterations", type=int, default=30, help="optimiser iterations")
+    fp.add_argument("--intervals", default="hac+integrator",
+                    help="how the 95 %% intervals are made: hac+integrator (default: HAC covariance plus the "
+                         "integrator's error), hac, or iid (the old s^2 (J^T J)^-1)")
     fp.add_argument("--quiet", action="store_true", help="no per-iteration progress")
     fp.add_argument("--overwrite", action="store_true", help="replace an existing report in --out")
     fp.set_defaults(func=run)
@@ -36,7 +39,8 @@ def run(args: argparse.Namespace) -> int:
     trials = [n.strip() for n in args.trials.split(",") if n.strip()] if args.trials else None
     doc = run_fit(args.data, args.out, params=args.params, free=free, trials=trials, workers=args.workers,
                   staged=args.staged, dt_ms=args.dt_ms, record_dt_ms=args.record_dt_ms, settle_ms=args.settle_ms,
-                  max_iterations=args.max_iterations, progress=not args.quiet, overwrite=args.overwrite)
+                  max_iterations=args.max_iterations, intervals=args.intervals, progress=not args.quiet,
+                  overwrite=args.overwrite)
     for n, v in doc.get("fit", {}).get("estimates", {}).items():
         lo, hi = doc["fit"]["ci95"][n]
         print(f"{n:7s} = {v:.6g}  95% [{lo:.6g}, {hi:.6g}]")

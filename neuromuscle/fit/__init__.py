@@ -10,19 +10,22 @@ Reads like the experiment::
 Modules, one decision each: ``problem`` (what to fit), ``evaluate`` (a trial's simulation; serial == parallel
 map), ``transforms`` (search space and default bounds), ``objectives`` (sse / nrmse), ``optimizers``
 (trust region, PRAXIS, Levenberg-Marquardt), ``uncertainty`` (intervals and identifiability, shared with the
-Hatze twitch fit), ``checkpoint`` (progress, checkpoint, resume), ``run`` (``fit`` and ``FitResult``),
+Hatze twitch fit), ``intervals`` (the fit's interval methods: HAC covariance, integrator error),
+``checkpoint`` (progress, checkpoint, resume), ``run`` (``fit`` and ``FitResult``),
 ``synthetic`` (trials simulated from known parameters plus noise).
 """
 
 from .checkpoint import CHECKPOINT_SCHEMA, read_checkpoint
 from .evaluate import SimulationOptions, trial_simulation
+from .intervals import INTERVAL_METHODS, fit_uncertainty
 from .objectives import OBJECTIVES
 from .optimizers import LMResult, levenberg_marquardt
 from .problem import FitProblem
 from .run import METHODS, FitResult, fit
 from .synthetic import synthetic_trial
-from .uncertainty import Rules, Uncertainty, estimate_uncertainty
+from .uncertainty import COVARIANCES, Rules, Uncertainty, describe_method, estimate_uncertainty
 
-__all__ = ["CHECKPOINT_SCHEMA", "METHODS", "OBJECTIVES", "FitProblem", "FitResult", "LMResult", "Rules",
-           "SimulationOptions", "Uncertainty", "estimate_uncertainty", "fit", "levenberg_marquardt",
-           "read_checkpoint", "synthetic_trial", "trial_simulation"]
+__all__ = ["CHECKPOINT_SCHEMA", "COVARIANCES", "INTERVAL_METHODS", "METHODS", "OBJECTIVES", "FitProblem",
+           "FitResult", "LMResult", "Rules", "SimulationOptions", "Uncertainty", "describe_method",
+           "estimate_uncertainty", "fit", "fit_uncertainty", "levenberg_marquardt", "read_checkpoint",
+           "synthetic_trial", "trial_simulation"]

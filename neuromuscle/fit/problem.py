@@ -101,7 +101,7 @@ class FitProblem:
     # -- search space -------------------------------------------------------------------------------------
     @property
     def n_residuals(self) -> int:
-        return int(sum(t.n_samples for t in self.trials))
+        return int(sum(self.segments))
 
     def z_bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """Bounds of the search vector z."""
@@ -131,10 +131,16 @@ class FitProblem:
         return {tf.name: {"ref": tf.ref, "log": tf.log, "scale": tf.scale} for tf in self._tf}
 
     # -- evaluation ---------------------------------------------------------------------------------------
-    def simulate_trials(self, z: Sequence[float]) -> list[np.ndarray]:
-        """Simulated force (N) of every trial at search vector z."""
+    def simulate_trials(self, z: Sequence[float], options: SimulationOptions | None = None) -> list[np.ndarray]:
+        """Simulated force (N) of every trial at search vector z (with ``options``, default the problem's)."""
         params = self.parameters(z)
-        return [trial_simulation(params, t, **asdict(self.options)) for t in self.trials]
+        opts = asdict(self.options if options is None else options)
+        return [trial_simulation(params, t, **opts) for t in self.trials]
+
+    @property
+    def segments(self) -> list[int]:
+        """Lengths of the independent pieces of the residual vector: the trials' sample counts."""
+        return [t.n_samples for t in self.trials]
 
     def residuals_from(self, sims: Sequence[np.ndarray]) -> np.ndarray:
         """The residual vector of the simulated forces ``sims`` (N, one array per trial)."""

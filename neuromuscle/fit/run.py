@@ -1,5 +1,6 @@
 """``fit``: one fit of a :class:`.problem.FitProblem`, from the start (or a checkpoint) to a :class:`FitResult`
-with the uncertainty and identifiability of its estimates (:mod:`.uncertainty`, ``Rules.for_fit``)."""
+with the uncertainty and identifiability of its estimates (:mod:`.intervals` on :mod:`.uncertainty`,
+``Rules.for_fit``)."""
 
 from __future__ import annotations
 
@@ -18,8 +19,9 @@ from ..parameters import SPECS, ParameterSet
 from .checkpoint import Tracker, read_checkpoint
 from .evaluate import MapFn, candidate_map, evaluate_candidate
 from .optimizers import fd_jacobian, praxis, trust_region_least_squares
+from .intervals import INTERVAL_METHODS, fit_uncertainty
 from .problem import FitProblem
-from .uncertainty import Rules, Uncertainty, estimate_uncertainty
+from .uncertainty import Rules, Uncertainty, describe_method
 
 METHODS = ("least_squares", "praxis")
 
@@ -28,7 +30,9 @@ METHODS = ("least_squares", "praxis")
 class FitResult:
     """Outcome of :func:`fit`: the fitted ParameterSet, the :class:`Uncertainty` of the free parameters
     (estimates, SE and intervals in the units of ``SPECS``), cost (sum of squared residuals, see
-    :mod:`.objectives`), ``nrmse_percent`` and the simulated force (N) per trial id, counters and history."""
+    :mod:`.objectives`), ``nrmse_percent`` and the simulated force (N) per trial id, counters and history;
+    ``z`` and ``jacobian``: the search vector of the estimate and dr/dz there (other interval methods:
+    :func:`.intervals.fit_uncertainty`)."""
 
     parameters: ParameterSet
     uncertainty: Uncertainty
@@ -41,6 +45,8 @@ class FitResult:
     method: str
     message: str
     history: list[dict[str, Any]] = field(default_factory=list)
+    z: np.ndarray | None = None
+    jacobian: np.ndarray | None = None
 
     @property
     def free(self) -> list[str]:
@@ -63,6 +69,11 @@ class FitResult:
         return self.uncertainty.identifiable
 
     @property
+    def interval_method(self) -> str:
+        """How the intervals were made (``Uncertainty.method``; :func:`.uncertainty.describe_method`)."""
+        return self.uncertainty.method
+
+    @property
     def flags(self) -> dict[str, str]:
         return self.uncertainty.flags
 
@@ -82,7 +93,8 @@ class FitResult:
     def summary(self) -> str:
         """A short table: estimate, SE, 95 % interval, flag."""
         lines = [f"{self.method}: cost {self.cost:.6g}, {self.n_iterations} iterations, {self.n_simulations} "
-                 f"simulations, {self.wall_time_s:.1f} s ({self.message})"]
+                 f"simulations, {self.wall_time_s:.1f} s ({self.message})",
+                 f"  intervals: {describe_method(self.interval_method)}"]
         for n in self.free:
             lo, hi = self.ci95[n]
             flag = f"  NOT IDENTIFIABLE: {self.flags[n]}" if n in self.flags else ""
@@ -95,7 +107,8 @@ class FitResult:
 def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None = None, workers: int = 1,
         checkpoint: str | os.PathLike | None = None, progress: bool = True, *, resume: bool = False,
         fd: str = "central", fd_step: float = 1e-3, max_iterations: int = 100, tolerance: float = 1e-8,
-        ident_rcond: float = 1e-3, max_rel_se: float = 0.5, mp_context: str = "spawn") -> FitResult:
+        ident_rcond: float = 1e-3, max_rel_se: float = 0.5, mp_context: str = "spawn",
+        intervals: str = INTERVAL_METHODS[0]) -> FitResult:
     """Fit ``problem``'s free parameters (search space: :mod:`.transforms`; statistics: :mod:`.uncertainty`).
 
     method: "least_squares" (scipy trust-region reflective with a finite-difference Jacobian in z) or
@@ -105,12 +118,15 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     tolerance: scipy's ftol/xtol/gtol (least_squares) or praxis' tolerance in z.  max_iterations: iterations
     (Jacobians; praxis: rounds of 2k+2 evaluations) of this call; the best point so far is returned after it.
     fd, fd_step: finite differences (:func:`.optimizers.fd_jacobian`).  ident_rcond, max_rel_se: the
-    identifiability flags (``Rules.for_fit``).
+    identifiability flags (``Rules.for_fit``).  intervals: how the 95 % intervals are made, one of
+    ``INTERVAL_METHODS`` (:mod:`.intervals`; the default adds one simulation of every trial at half the step).
     """
     if not (isinstance(max_iterations, int) and max_iterations >= 1):
         raise InputError(f"max_iterations must be an integer >= 1, got {max_iterations!r}")
     if method not in METHODS:
         raise InputError(f"method must be one of {METHODS}, got {method!r}")
+    if intervals not in INTERVAL_METHODS:
+        raise InputError(f"intervals must be one of {INTERVAL_METHODS}, got {intervals!r}")
     if fd not in ("central", "forward"):
         raise InputError(f"fd must be 'central' or 'forward', got {fd!r}")
     if not (isinstance(workers, int) and workers >= 1):
@@ -144,14 +160,13 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     tracker.n_sim += len(problem.trials)
     r = problem.residuals_from(sims)
     tracker.best_z, tracker.best_cost = z, float(r @ r)
+    unc = fit_uncertainty(problem, z, jac, sims, intervals, Rules.for_fit(ident_rcond, max_rel_se))
+    if "integrator" in intervals:  # the re-run at half the step
+        tracker.n_sim += len(problem.trials)
     tracker.write(final=True)
-    def to_p(zz: np.ndarray) -> np.ndarray:
-        return np.array(list(problem.to_values(zz).values()))
-
-    unc = estimate_uncertainty(problem.free, z, jac, r, to_p, problem.dp_dz(z), Rules.for_fit(ident_rcond, max_rel_se))
     return FitResult(
         parameters=problem.parameters(z), uncertainty=unc, cost=float(r @ r),
         nrmse_percent={t.trial_id: nrmse_percent(t.force, s) for t, s in zip(problem.trials, sims)},
         simulated={t.trial_id: s for t, s in zip(problem.trials, sims)}, n_simulations=tracker.n_sim,
         n_iterations=tracker.n_iter, wall_time_s=time.perf_counter() - tracker.t_start, method=method,
-        message=message, history=tracker.history)
+        message=message, history=tracker.history, z=z, jacobian=jac)

@@ -11,6 +11,22 @@ and the map z -> p to parameter units into an :class:`Uncertainty`.  Shared by b
   Jn, largest first.
 * A parameter with a zero Jacobian column has no effect: SE inf, flagged.
 
+Which covariance of the residuals (``covariance``, :data:`COVARIANCES`; the interval method is named in
+``Uncertainty.method`` and described by :func:`describe_method`):
+
+* ``"iid"``: the above, s^2 (J^T J)^-1: right when the residuals are independent with one variance.
+* ``"hac"``: a sandwich (J^T J)^-1 S (J^T J)^-1 (times n / (n - k)) whose middle S is the long-run covariance of
+  the scores J_t r_t, summed over independent ``segments`` (the trials; no lag crosses a trial boundary).  Each
+  segment is prewhitened by an AR(1) filter (rho = lag-1 autocorrelation of its residuals, Kendall's bias
+  correction, capped at +/-``RHO_MAX``; Prais-Winsten first sample), the whitened scores get Newey-West's
+  Bartlett estimate with lag floor(4 (n_s / 100)^(2/9)), and the filter is undone on the regressors
+  (Andrews & Monahan 1992).  Right for autocorrelated noise (force transducers) and for trials whose residuals
+  differ in variance (e.g. the NRMSE objective, which rescales each trial by its range).
+* ``model_error`` (optional, residual units): the model's own numerical error at the estimate (e.g. a
+  fixed-step integrator's, see :mod:`.intervals`).  It biases the estimate by b = -(J^T J)^-1 J^T e
+  (``Uncertainty.numerical_bias``, parameter units); the interval is widened by |b| towards est - b,
+  so that it holds both the estimate's interval and the bias-corrected one.
+
 What each engine does its own way is a :class:`Rules` (the constructors keep each engine's rules as they were):
 
 * ``Rules.for_fit`` (:func:`neuromuscle.fit.fit`, the Kim muscle): C^-1 from the SVD of Jn, infinite along
@@ -25,16 +41,20 @@ What each engine does its own way is a :class:`Rules` (the constructors keep eac
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
 import numpy as np
+from scipy.signal import lfilter
 from scipy.stats import t as student_t
 
 from ..errors import InputError
 
 INVERSES = ("svd", "pinv")
 INTERVALS = ("parameter", "search")
+COVARIANCES = ("iid", "hac")
+#: The largest |rho| of the AR(1) prewhitening filter (near a unit root its long-run variance explodes).
+RHO_MAX = 0.99
 
 
 @dataclass(frozen=True)
@@ -71,7 +91,9 @@ class Uncertainty:
     ``std_errors``: standard errors (inf: no effect or a singular direction); ``ci95``: (lower, upper) 95 %
     intervals; ``correlation``: k x k correlation of the estimates; ``singular_values`` of the column-normalised
     Jacobian; ``vif``: variance inflation factors; ``flags``: why each poorly identified parameter is flagged;
-    ``dof``: degrees of freedom; ``residual_sigma``: s = sqrt(|r|^2 / dof) (units of the residuals).
+    ``dof``: degrees of freedom; ``residual_sigma``: s = sqrt(|r|^2 / dof) (units of the residuals);
+    ``method``: how the intervals were made (:func:`describe_method`); ``numerical_bias``: the estimated bias of
+    the estimates from the model's numerical error (0 when not estimated).
     """
 
     names: tuple[str, ...]
@@ -84,6 +106,8 @@ class Uncertainty:
     flags: dict[str, str]
     dof: int
     residual_sigma: float
+    method: str = "iid"
+    numerical_bias: dict[str, float] = field(default_factory=dict)
 
     @property
     def identifiable(self) -> dict[str, bool]:
@@ -104,11 +128,20 @@ def _inverse_svd(svals: np.ndarray, vt: np.ndarray) -> np.ndarray:
 
 
 def estimate_uncertainty(names: Sequence[str], z: np.ndarray, jac_z: np.ndarray, resid: np.ndarray,
-                         to_p: Callable[[np.ndarray], np.ndarray], dp_dz: np.ndarray, rules: Rules) -> Uncertainty:
+                         to_p: Callable[[np.ndarray], np.ndarray], dp_dz: np.ndarray, rules: Rules, *,
+                         covariance: str = "iid", segments: Sequence[int] | None = None,
+                         model_error: np.ndarray | None = None) -> Uncertainty:
     """The :class:`Uncertainty` at search vector z from J = dr/dz (n x k), the residuals r (n), the map
-    ``to_p`` from z (array) to parameter units and dp/dz at z; ``rules``: the engine's (module docstring)."""
+    ``to_p`` from z (array) to parameter units and dp/dz at z; ``rules``: the engine's; ``covariance``: one of
+    ``COVARIANCES``, ``segments``: lengths of the independent series r is made of (default: one), ``model_error``:
+    the model's numerical error at z (n, residual units) or None (module docstring)."""
+    if covariance not in COVARIANCES:
+        raise InputError(f"covariance must be one of {COVARIANCES}, got {covariance!r}")
     names = tuple(names)
     n, k = jac_z.shape
+    segments = [n] if segments is None else [int(m) for m in segments]
+    if sum(segments) != n or min(segments) < 1:
+        raise InputError(f"segments {segments} must be positive lengths adding up to the {n} residuals")
     dof = max(n - k, 1)
     s2 = float(resid @ resid) / dof
     if rules.inverse == "svd":
@@ -117,29 +150,87 @@ def estimate_uncertainty(names: Sequence[str], z: np.ndarray, jac_z: np.ndarray,
         jtj = jac_z.T @ jac_z
         norms = np.sqrt(np.diag(jtj))
     safe = np.where(norms > 0, norms, 1.0)
-    _, svals, vt = np.linalg.svd(jac_z / safe, full_matrices=False)
+    jn = jac_z / safe
+    _, svals, vt = np.linalg.svd(jn, full_matrices=False)
     if rules.inverse == "svd":
         c_inv = _inverse_svd(svals, vt)
     else:
         c_inv = np.linalg.pinv(jtj / np.outer(safe, safe), rcond=1e-15)
+    c_fin = np.where(np.isfinite(c_inv), c_inv, 0.0)
     with np.errstate(invalid="ignore"):
-        cov_z = s2 * c_inv / np.outer(safe, safe)
+        if covariance == "iid":
+            cov_z = s2 * c_inv / np.outer(safe, safe)
+        else:
+            cov_n = c_fin @ (hac_middle(jn, resid, segments) * (n / dof)) @ c_fin
+            cov_z = np.where(np.isfinite(c_inv), cov_n, np.inf) / np.outer(safe, safe)
         cov_p = cov_z * np.outer(dp_dz, dp_dz)
     se = np.where(norms > 0, np.sqrt(np.maximum(np.diag(cov_p), 0.0)), np.inf)
+    bias_z = np.zeros(k) if model_error is None else -(c_fin @ (jn.T @ model_error)) / safe
+    bias_p = bias_z * dp_dz
     tq = float(student_t.ppf(0.975, dof))
     est = to_p(z)
     if rules.interval == "parameter":
-        lo, hi = est - tq * se, est + tq * se
+        lo, hi = est - tq * se - np.maximum(bias_p, 0.0), est + tq * se + np.maximum(-bias_p, 0.0)
     else:
         half = tq * np.where(norms > 0, np.sqrt(np.maximum(np.diag(cov_z), 0.0)), np.inf)
-        lo, hi = to_p(z - half), to_p(z + half)
+        lo, hi = to_p(z - half - np.maximum(bias_z, 0.0)), to_p(z + half + np.maximum(-bias_z, 0.0))
     vif = np.diag(c_inv).copy()
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov_p / np.outer(se, se)
     flags = _flags(names, norms, svals, vt, est, se, lo, hi, vif, rules)
+    method = covariance + ("" if model_error is None else "+integrator")
     return Uncertainty(names, _floats(names, est), _floats(names, se),
                        {nm: (float(a), float(b)) for nm, a, b in zip(names, lo, hi)}, corr, svals,
-                       _floats(names, vif), flags, dof, math.sqrt(s2))
+                       _floats(names, vif), flags, dof, math.sqrt(s2), method, _floats(names, bias_p))
+
+
+def describe_method(method: str) -> str:
+    """One sentence saying how intervals of ``method`` (``Uncertainty.method``) were made."""
+    covariance, _, extra = method.partition("+")
+    text = {"iid": "Wald 95 % intervals from s^2 (J^T J)^-1 (independent residuals of one variance)",
+            "hac": "Wald 95 % intervals from a HAC sandwich covariance (AR(1)-prewhitened Newey-West per trial: "
+                   "autocorrelated noise, trials of different residual variance)"}.get(covariance)
+    if text is None or extra not in ("", "integrator"):
+        raise InputError(f"unknown interval method {method!r}")
+    return text + ("; widened by the integrator's own error (fitted model re-run at half the step, first-order "
+                   "Richardson estimate)" if extra else "")
+
+
+def hac_middle(jac: np.ndarray, resid: np.ndarray, segments: Sequence[int]) -> np.ndarray:
+    """S = sum over the independent ``segments`` of the long-run covariance of the scores J_t r_t (k x k, units
+    of J^T r squared): AR(1) prewhitening, Newey-West (Bartlett) on the whitened scores, recolouring."""
+    k = jac.shape[1]
+    middle = np.zeros((k, k))
+    start = 0
+    for m in segments:
+        j, r = jac[start:start + m], resid[start:start + m]
+        start += m
+        rho = _ar1_coefficient(r)
+        c = math.sqrt(1.0 - rho * rho)
+        u = np.concatenate([[c * r[0]], r[1:] - rho * r[:-1]])
+        # regressors through the transposed inverse filter, so that sum_t jw_t u_t = J^T r exactly
+        jw = lfilter([1.0], [1.0, -rho], j[::-1], axis=0)[::-1]
+        jw[0] /= c
+        middle += _newey_west(jw * u[:, None], int(4.0 * (m / 100.0) ** (2.0 / 9.0)))
+    return middle
+
+
+def _ar1_coefficient(r: np.ndarray) -> float:
+    """Lag-1 autocorrelation of r with Kendall's bias correction (1 + 3 rho) / n, within +/- RHO_MAX."""
+    rr = float(r @ r)
+    if r.size < 3 or rr == 0.0:
+        return 0.0
+    rho = float(r[1:] @ r[:-1]) / rr
+    return float(np.clip(rho + (1.0 + 3.0 * rho) / r.size, -RHO_MAX, RHO_MAX))
+
+
+def _newey_west(h: np.ndarray, lag: int) -> np.ndarray:
+    """sum_t h_t h_t^T plus the Bartlett-weighted lagged cross products up to ``lag`` (h: n x k)."""
+    out = h.T @ h
+    for ell in range(1, min(lag, h.shape[0] - 1) + 1):
+        g = h[ell:].T @ h[:-ell]
+        out += (1.0 - ell / (lag + 1.0)) * (g + g.T)
+    return out
 
 
 def _floats(names: tuple[str, ...], values: np.ndarray) -> dict[str, float]:

@@ -5,8 +5,9 @@
 Writes into DIR:
 
 * ``params.json``  the fitted ParameterSet (``neuromuscle simulate --params DIR/params.json`` accepts it),
-* ``fit.json``     estimates, standard errors, 95 % intervals, identifiability flags, NRMSE per trial, cost,
-* ``summary.md``   the same as a readable table, plus the stages of ``--staged``,
+* ``fit.json``     estimates, standard errors, 95 % intervals and how they were made (``interval_method``,
+  ``interval_method_text``, ``numerical_bias``), identifiability flags, NRMSE per trial, cost,
+* ``summary.md``   the same as a readable table naming the interval method, plus the stages of ``--staged``,
 * ``figures/<trial>.png``  measured vs simulated force and the residual, per fitted trial.
 
 Default mode: one :func:`~neuromuscle.fit.fit` of the ``--free`` parameters (default C1, C2, C3, alpha)
@@ -25,7 +26,7 @@ import numpy as np
 
 from ..calibration import MODULE2_FREE, StagedCalibration, staged_calibration
 from ..errors import InputError
-from ..fit import FitProblem, FitResult, SimulationOptions, fit, trial_simulation
+from ..fit import INTERVAL_METHODS, FitProblem, FitResult, SimulationOptions, describe_method, fit, trial_simulation
 from ..analysis.metrics import nrmse_percent
 from ..measured import MeasuredData, Trial, read_measured
 from ..parameters import SPECS, ParameterSet, load_parameters
@@ -74,10 +75,12 @@ def run_fit(data_path: str | Path, out_dir: str | Path, *, params: str | Path = 
             free: Sequence[str] | None = None, trials: Sequence[str] | None = None, workers: int = 1,
             staged: bool = False, dt_ms: float = 0.05, record_dt_ms: float | None = 0.5,
             settle_ms: float = 300.0, max_iterations: int = 30, objective: str = "nrmse",
-            progress: bool = False, overwrite: bool = False) -> dict[str, Any]:
+            intervals: str = INTERVAL_METHODS[0], progress: bool = False,
+            overwrite: bool = False) -> dict[str, Any]:
     """Fit ``data_path`` (measured-data HDF5) from the parameter set ``params``; write the report into
-    ``out_dir`` (see the module docstring); an existing report there is kept unless overwrite.  Returns the
-    content of fit.json."""
+    ``out_dir`` (see the module docstring); an existing report there is kept unless overwrite.  intervals: the
+    fit's interval method (``neuromuscle.fit.INTERVAL_METHODS``; default mode only).  Returns the content of
+    fit.json."""
     check_out_dir(out_dir, overwrite, REPORT_FILES)
     data = read_measured(data_path)
     base = load_parameters(params)
@@ -99,7 +102,8 @@ def run_fit(data_path: str | Path, out_dir: str | Path, *, params: str | Path = 
         result = m2[0].fit if m2 else None
     else:
         problem = FitProblem(chosen, base, free, objective=objective, options=opts)
-        result = fit(problem, workers=workers, progress=progress, max_iterations=max_iterations)
+        result = fit(problem, workers=workers, progress=progress, max_iterations=max_iterations,
+                     intervals=intervals)
         final = ParameterSet(f"{base.name}-fit", result.parameters.values,
                              f"neuromuscle fit {Path(data_path).name} from {base.name}, free {','.join(free)}")
     with atomic_path(out / "params.json") as part:
@@ -126,7 +130,10 @@ def run_fit(data_path: str | Path, out_dir: str | Path, *, params: str | Path = 
     }
     if result is not None:
         doc["fit"] = {"estimates": result.estimates, "std_errors": result.std_errors,
-                      "ci95": {k: list(v) for k, v in result.ci95.items()}, "identifiable": result.identifiable,
+                      "ci95": {k: list(v) for k, v in result.ci95.items()},
+                      "interval_method": result.interval_method,
+                      "interval_method_text": describe_method(result.interval_method),
+                      "numerical_bias": result.uncertainty.numerical_bias, "identifiable": result.identifiable,
                       "flags": result.flags, "cost": result.cost, "iterations": result.n_iterations,
                       "simulations": result.n_simulations, "wall_time_s": result.wall_time_s,
                       "message": result.message, "objective": objective, "trials_in_fit": list(result.simulated)}
@@ -147,10 +154,12 @@ def _markdown(doc: dict[str, Any], final: ParameterSet, result: FitResult | None
     if result is not None:
         f = doc["fit"]
         lines += [f"## Fitted parameters ({f['iterations']} iterations, {f['simulations']} simulations, "
-                  f"{f['wall_time_s']:.1f} s; {f['message']})", ""]
-        lines += table(("parameter", "estimate", "unit", "SE", "95 % interval", "identifiable"),
+                  f"{f['wall_time_s']:.1f} s; {f['message']})", "",
+                  f"Intervals (`{f['interval_method']}`): {f['interval_method_text']}.", ""]
+        lines += table(("parameter", "estimate", "unit", "SE", "integrator bias", "95 % interval", "identifiable"),
                        ((n, sig(result.estimates[n], 6), SPECS[n].unit, sig(result.std_errors[n]),
-                         interval(*result.ci95[n]), "yes" if result.identifiable[n] else f"NO: {result.flags[n]}")
+                         sig(f["numerical_bias"][n]), interval(*result.ci95[n]),
+                         "yes" if result.identifiable[n] else f"NO: {result.flags[n]}")
                         for n in result.free))
         lines.append("")
     if "stages" in doc:
