@@ -29,9 +29,12 @@ from .sweep_summary import fixed_vs_cvode_pct, run_record, summarise
 METHODS = ("fixed", "cvode")
 #: Recording interval (ms) of the force compared between the integrators.
 RECORD_DT_MS = 0.5
-#: CVODE's wall-time budget of one run (s): CT09's slowest protocol takes about 1 s, so a run past it is at least ten
-#: times slower than the published set (and is counted as a hang, with the time it reached).
-RUN_BUDGET_S = 10.0
+#: CVODE's step budget of one run, per simulated ms: CT09 takes at most about 170 steps per ms (100 Hz train), so
+#: a run past it takes six times as many steps as the published set; a budget in steps counts the same on any
+#: machine under any load.  A run that spends it stops (NumericalError) and counts as a hang.
+STEPS_PER_MS = 1000
+#: CVODE's wall-time budget of one run (s), the safety net behind the step budget.
+RUN_BUDGET_S = 60.0
 #: Process-level timeout of a draw, per protocol, on top of its CVODE run's budget (s): the fixed-step run and
 #: building the units fit many times over in it.
 PROTOCOL_ALLOWANCE_S = 20.0
@@ -41,8 +44,9 @@ PROTOCOL_ALLOWANCE_S = 20.0
 class SweepSettings:
     """What a sweep runs: ``n_draws`` sets around ``base`` (a set name or file) from ``seed``, each parameter
     times a log-uniform factor in ``factor_range``; ``short`` protocols (tests); fixed step ``dt_ms`` (ms); CVODE's
-    wall-time budget per run ``run_budget_s`` (s); the process-level timeout per draw ``draw_timeout_s`` (s; None:
-    per protocol, the run budget plus PROTOCOL_ALLOWANCE_S)."""
+    budgets per run, ``steps_per_ms`` steps per simulated ms and ``run_budget_s`` (s) of wall time; the
+    process-level timeout per draw ``draw_timeout_s`` (s; None: per protocol, the run budget plus
+    PROTOCOL_ALLOWANCE_S)."""
 
     n_draws: int
     seed: int = 0
@@ -50,6 +54,7 @@ class SweepSettings:
     factor_range: tuple[float, float] = FACTOR_RANGE
     short: bool = False
     dt_ms: float = 0.025
+    steps_per_ms: float = STEPS_PER_MS
     run_budget_s: float = RUN_BUDGET_S
     draw_timeout_s: float | None = None
 
@@ -69,7 +74,8 @@ def run_protocol(params: ParameterSet, draw_index: int, protocol: Protocol, meth
     from ..model.kim import kim_excitation
     from ..sim import Simulator, simulate
 
-    sim = Simulator(method=method, dt_ms=settings.dt_ms, max_wall_s=settings.run_budget_s)
+    sim = Simulator(method=method, dt_ms=settings.dt_ms, max_wall_s=settings.run_budget_s,
+                    max_steps=int(settings.steps_per_ms * protocol.duration_ms))
     start = time.perf_counter()
     try:
         r = simulate(params, protocol.spikes_ms, protocol.length, protocol.duration_ms, simulator=sim,

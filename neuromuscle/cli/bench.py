@@ -31,7 +31,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bs.add_argument("--draws", type=int, default=10, help="parameter sets (default 10: about two minutes)")
     bs.add_argument("--seed", type=int, default=0)
     bs.add_argument("--workers", type=int, default=2, help="processes (spawned), one draw at a time each")
-    bs.add_argument("--run-budget-s", type=float, default=None, help="CVODE wall-time budget of one run (s; default 10)")
+    bs.add_argument("--steps-per-ms", type=int, default=None,
+                    help="CVODE step budget of one run per simulated ms (default 1000; CT09 needs at most 170)")
+    bs.add_argument("--run-budget-s", type=float, default=None, help="CVODE wall-time budget of one run (s; default 60)")
     bs.add_argument("--draw-timeout-s", type=float, default=None,
                     help="process-level timeout of one draw (s; default per protocol the run budget + 20 s)")
     bs.add_argument("--short", action="store_true", help="the protocols about half as long")
@@ -51,8 +53,8 @@ def run_sweep(args: argparse.Namespace) -> int:
     if args.draws < 1 or args.workers < 1:
         raise InputError(f"--draws and --workers must be >= 1, got {args.draws} and {args.workers}")
     limits = {name: positive_number(flag, value) for name, flag, value in (
-        ("run_budget_s", "--run-budget-s", args.run_budget_s), ("draw_timeout_s", "--draw-timeout-s", args.draw_timeout_s))
-        if value is not None}
+        ("run_budget_s", "--run-budget-s", args.run_budget_s), ("draw_timeout_s", "--draw-timeout-s", args.draw_timeout_s),
+        ("steps_per_ms", "--steps-per-ms", args.steps_per_ms)) if value is not None}
     settings = SweepSettings(n_draws=args.draws, seed=args.seed, base=args.params, short=args.short, **limits)
     report = sweep(settings, workers=args.workers, progress=not args.quiet)
     if out is not None:
