@@ -24,7 +24,7 @@ from ..parameters import ParameterSet, load_parameters
 from .guarded_pool import guarded_map
 from .sweep_draws import FACTOR_RANGE, draw
 from .sweep_protocols import Protocol, sweep_protocols
-from .sweep_summary import fixed_vs_cvode_pct, run_record, summarise
+from .sweep_summary import comparison, run_record, summarise
 
 METHODS = ("fixed", "cvode")
 #: Recording interval (ms) of the force compared between the integrators.
@@ -58,11 +58,15 @@ class SweepSettings:
     run_budget_s: float = RUN_BUDGET_S
     draw_timeout_s: float | None = None
 
+    def protocols_per_draw(self) -> int:
+        """How many protocols each draw runs (under each integrator)."""
+        return len(sweep_protocols(-8.0, 0, False, self.short))
+
     def timeout_s(self) -> float:
         """The process-level timeout (s) of one draw."""
         if self.draw_timeout_s is not None:
             return self.draw_timeout_s
-        return len(sweep_protocols(-8.0, 0, False, self.short)) * (self.run_budget_s + PROTOCOL_ALLOWANCE_S)
+        return self.protocols_per_draw() * (self.run_budget_s + PROTOCOL_ALLOWANCE_S)
 
 
 def run_protocol(params: ParameterSet, draw_index: int, protocol: Protocol, method: str,
@@ -102,10 +106,8 @@ def run_draw(task: dict[str, Any], emit: Callable[[dict[str, Any]], None]) -> No
             record, forces[method] = run_protocol(params, task["draw"], protocol, method, settings)
             emit({"kind": "run", "record": record})
         if all(f is not None for f in forces.values()):
-            emit({"kind": "comparison", "comparison": {
-                "draw": task["draw"], "protocol": protocol.name,
-                "pct": fixed_vs_cvode_pct(forces["fixed"], forces["cvode"]),
-                "peak_N": float(max(np.max(forces["fixed"]), np.max(forces["cvode"])))}})
+            emit({"kind": "comparison",
+                  "comparison": comparison(task["draw"], protocol.name, forces["fixed"], forces["cvode"])})
 
 
 def _unfinished_run(draw_index: int, messages: list[dict[str, Any]], status: str, error: str) -> dict[str, Any]:
@@ -147,12 +149,12 @@ def sweep(settings: SweepSettings, workers: int = 2, progress: bool = True) -> d
             runs.append(_unfinished_run(outcome.index, outcome.messages, status, outcome.error or ""))
         if progress:
             _progress(done, len(tasks), runs, started)
-    n_protocols = len(sweep_protocols(-8.0, 0, False, settings.short))
     summary = summarise(runs, comparisons, seed=settings.seed, n_draws=settings.n_draws,
                         n_refused=sum(len(d.refused) for d in draws),
-                        n_runs_expected=settings.n_draws * n_protocols * len(METHODS))
+                        n_runs_expected=settings.n_draws * settings.protocols_per_draw() * len(METHODS))
     summary["settings"] = {**asdict(settings), "workers": workers, "record_dt_ms": RECORD_DT_MS,
-                           "draw_timeout_s": settings.timeout_s(), "cvode_atol": Simulator.atol, "cvode_rtol": Simulator.rtol}
+                           "draw_timeout_s": settings.timeout_s(), "cvode_atol": Simulator.atol,
+                           "cvode_rtol": Simulator.rtol}
     summary["total_wall_s"] = time.monotonic() - started
     worst = summary["worst_fixed_vs_cvode_pct"]
     if worst is not None:
@@ -163,4 +165,5 @@ def sweep(settings: SweepSettings, workers: int = 2, progress: bool = True) -> d
             "draws": [{"draw": d.index, "factors": d.factors, "refused": list(d.refused),
                        "length_seed": d.length_seed, "movement_compensation": d.movement_compensation}
                       for d in draws],
-            "runs": sorted(runs, key=lambda r: r["draw"]), "comparisons": sorted(comparisons, key=lambda c: c["draw"])}
+            "runs": sorted(runs, key=lambda r: r["draw"]),
+            "comparisons": sorted(comparisons, key=lambda c: c["draw"])}

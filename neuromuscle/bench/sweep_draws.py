@@ -54,7 +54,8 @@ def draw(base: ParameterSet, seed: int, index: int, factor_range: tuple[float, f
         factors = np.exp(rng.uniform(lo, hi, size=len(names)))
         values = {n: float(np.clip(base[n] * f, SPECS[n].lower, SPECS[n].upper)) for n, f in zip(names, factors)}
         try:
-            params = ParameterSet(f"sweep seed {seed} draw {index}", values, f"{base.name} x log-uniform {factor_range}")
+            params = ParameterSet(f"sweep seed {seed} draw {index}", values,
+                                  f"{base.name} x log-uniform {factor_range}")
             accept(params)
         except InputError as exc:
             refused.append(str(exc))

@@ -14,6 +14,8 @@ from typing import Any, Iterable
 
 import numpy as np
 
+from ..reports.markdown import bullets, sig, table
+
 #: Largest accepted fixed-vs-CVODE difference (% of peak).
 TOLERANCE_PCT = 1.0
 #: Statuses that count as a hang: CVODE's budget stopped the run, or the draw's process-level timeout did.
@@ -70,6 +72,21 @@ def fixed_vs_cvode_pct(fixed_N: np.ndarray, cvode_N: np.ndarray) -> float:
     return 0.0 if diff == 0.0 else (100.0 * diff / peak if peak > 0.0 else float("inf"))
 
 
+def comparison(draw: int, protocol: str, fixed_N: np.ndarray, cvode_N: np.ndarray) -> dict[str, Any]:
+    """The comparison record of one protocol of one draw: the difference (% of peak) and the peak (N)."""
+    return {"draw": draw, "protocol": protocol, "pct": fixed_vs_cvode_pct(fixed_N, cvode_N),
+            "peak_N": float(np.nanmax(np.concatenate([fixed_N, cvode_N])))}
+
+
+#: The problems a run can show, each a test of its record.
+PROBLEMS = {"exceptions": lambda r: r["status"] in ("exception", "died"),
+            "hangs": lambda r: r["status"] in HANG_STATUSES,
+            "nonfinite": lambda r: r["status"] == "nonfinite",
+            "negative_force": lambda r: r["min_N"] is not None and r["min_N"] < 0.0}
+LABELS = {"exceptions": "exceptions", "hangs": "hangs (budget stops, timeouts)", "nonfinite": "non-finite values",
+          "negative_force": "negative force"}
+
+
 def _stats(values: list[float]) -> dict[str, float | int]:
     v = np.asarray(values, dtype=float)
     if not v.size:
@@ -88,50 +105,49 @@ def _masked(message: str) -> str:
     return re.sub(r"[-+]?\d+(\.\d+)?([eE][-+]?\d+)?", "#", message.splitlines()[0])[:200]
 
 
+def _per_protocol(runs: list[dict[str, Any]], scored: list[dict[str, Any]], tolerance_pct: float) -> dict[str, Any]:
+    """Per protocol: percentiles of the fixed-vs-CVODE difference (% of peak), how many exceed the tolerance, and
+    how many runs show each problem."""
+    out: dict[str, Any] = {}
+    for name in dict.fromkeys([r["protocol"] for r in runs] + [c["protocol"] for c in scored]):  # in run order
+        pct = [c["pct"] for c in scored if c["protocol"] == name]
+        mine = [r for r in runs if r["protocol"] == name]
+        out[name] = {"fixed_vs_cvode_pct": _stats(pct), "n_over_tolerance": int(sum(x > tolerance_pct for x in pct)),
+                     **{k: int(sum(map(test, mine))) for k, test in PROBLEMS.items()}}
+    return out
+
+
 def summarise(runs: list[dict[str, Any]], comparisons: list[dict[str, Any]], *, seed: int, n_draws: int,
               n_refused: int = 0, n_runs_expected: int | None = None,
               tolerance_pct: float = TOLERANCE_PCT) -> dict[str, Any]:
-    """The sweep's summary: counts of exceptions, hangs (budget stops and timeouts, with the time reached),
-    non-finite and negative-force runs, each with examples; the worst fixed-vs-CVODE difference (% of peak) with
-    its draw and protocol, percentiles of that difference per protocol; wall time (s) per run; and ``failures``,
-    one line per broken check (empty when the sweep passed)."""
-    exceptions = [r for r in runs if r["status"] in ("exception", "died")]
-    hangs = [r for r in runs if r["status"] in HANG_STATUSES]
-    nonfinite = [r for r in runs if r["status"] == "nonfinite"]
-    negative = [r for r in runs if r["min_N"] is not None and r["min_N"] < 0.0]
+    """The sweep's summary: counts of runs with exceptions, hangs (budget stops and timeouts, with the time
+    reached), non-finite values and negative force, with their draws and examples; the worst fixed-vs-CVODE
+    difference (% of peak) with its draw and protocol; per protocol, percentiles of that difference and counts of
+    each problem; wall time (s) per run; and ``failures``, one line per broken check (empty when all passed)."""
+    problems = {k: [r for r in runs if test(r)] for k, test in PROBLEMS.items()}
     scored = [c for c in comparisons if np.isfinite(c["pct"])]
+    over = sorted((c for c in scored if c["pct"] > tolerance_pct), key=lambda c: -c["pct"])
     worst = max(comparisons, key=lambda c: c["pct"] if not np.isnan(c["pct"]) else np.inf, default=None)
-    by_protocol: dict[str, list[float]] = {}
-    for c in scored:
-        by_protocol.setdefault(c["protocol"], []).append(c["pct"])
     walls = [r for r in runs if r["wall_s"] is not None]
     slowest = max(walls, key=lambda r: r["wall_s"], default=None)
     summary: dict[str, Any] = {
         "seed": seed, "n_draws": n_draws, "n_runs": len(runs), "n_runs_expected": n_runs_expected,
-        "n_refused_sets": n_refused,
-        "exceptions": len(exceptions), "hangs": len(hangs), "nonfinite": len(nonfinite),
-        "negative_force": len(negative),
+        "n_refused_sets": n_refused, **{k: len(v) for k, v in problems.items()},
         "worst_fixed_vs_cvode_pct": None if worst is None else
-        {"pct": worst["pct"], "draw": worst["draw"], "protocol": worst["protocol"]},
-        "tolerance_pct": tolerance_pct,
-        "fixed_vs_cvode_pct": {p: {**_stats(v), "n_over_tolerance": int(sum(x > tolerance_pct for x in v))}
-                               for p, v in sorted(by_protocol.items())},
+        {k: worst.get(k) for k in ("pct", "draw", "protocol", "peak_N")},
+        "tolerance_pct": tolerance_pct, "n_over_tolerance": len(over),
+        "per_protocol": _per_protocol(runs, scored, tolerance_pct),
         "wall_s": {"median": float(np.median([r["wall_s"] for r in walls])) if walls else None,
                    "max": None if slowest is None else slowest["wall_s"],
                    "slowest": None if slowest is None else _where(slowest),
                    **{m: _stats([r["wall_s"] for r in walls if r["method"] == m]) for m in ("fixed", "cvode")}},
-        "exceptions_by_class": dict(Counter(_masked(r["error"]) for r in exceptions).most_common()),
-        "status_by_method": {m: dict(Counter(r["status"] for r in runs if r["method"] == m)) for m in ("fixed", "cvode")},
-        "draws_with": {"exceptions": sorted({r["draw"] for r in exceptions}), "hangs": sorted({r["draw"] for r in hangs}),
-                       "nonfinite": sorted({r["draw"] for r in nonfinite}),
-                       "negative_force": sorted({r["draw"] for r in negative}),
-                       "over_tolerance": sorted({c["draw"] for c in scored if c["pct"] > tolerance_pct})},
-        "examples": {"exceptions": [_where(r) for r in exceptions[:EXAMPLES]],
-                     "hangs": [_where(r) for r in hangs[:EXAMPLES]],
-                     "nonfinite": [_where(r) for r in nonfinite[:EXAMPLES]],
-                     "negative_force": [_where(r) for r in negative[:EXAMPLES]],
-                     "over_tolerance": sorted((c for c in scored if c["pct"] > tolerance_pct),
-                                              key=lambda c: -c["pct"])[:EXAMPLES]},
+        "status_by_method": {m: dict(Counter(r["status"] for r in runs if r["method"] == m))
+                             for m in ("fixed", "cvode")},
+        "exceptions_by_class": dict(Counter(_masked(r["error"]) for r in problems["exceptions"]).most_common()),
+        "draws_with": {**{k: sorted({r["draw"] for r in v}) for k, v in problems.items()},
+                       "over_tolerance": sorted({c["draw"] for c in over})},
+        "examples": {**{k: [_where(r) for r in v[:EXAMPLES]] for k, v in problems.items()},
+                     "over_tolerance": over[:EXAMPLES]},
     }
     summary["failures"] = failures(summary)
     return summary
@@ -142,7 +158,8 @@ def failures(summary: dict[str, Any]) -> list[str]:
     fixed-vs-CVODE difference above the tolerance, missing runs or comparisons."""
     out = []
     for key, what in (("exceptions", "run(s) raised"), ("hangs", "run(s) hung (budget stop or timeout)"),
-                      ("nonfinite", "run(s) gave non-finite values"), ("negative_force", "run(s) gave negative force")):
+                      ("nonfinite", "run(s) gave non-finite values"),
+                      ("negative_force", "run(s) gave negative force")):
         if summary[key]:
             out.append(f"{summary[key]} {what}")
     worst = summary["worst_fixed_vs_cvode_pct"]
@@ -154,3 +171,28 @@ def failures(summary: dict[str, Any]) -> list[str]:
     if summary["n_runs_expected"] is not None and summary["n_runs"] != summary["n_runs_expected"]:
         out.append(f"{summary['n_runs']} runs recorded of {summary['n_runs_expected']} expected")
     return out
+
+
+def markdown(summary: dict[str, Any]) -> list[str]:
+    """The summary as Markdown lines: a table of the checks, a table per protocol, and the failures."""
+    w, wall = summary["worst_fixed_vs_cvode_pct"], summary["wall_s"]
+    tol = f"{summary['tolerance_pct']:g} %"
+    n_cmp = sum(p["fixed_vs_cvode_pct"]["n"] for p in summary["per_protocol"].values())
+    worst = "none" if w is None else (f"{sig(w['pct'])} % of peak (draw {w['draw']}, {w['protocol']}, peak "
+                                      f"{sig(w['peak_N'])} N)")
+    lines = table(["check", "result"], [
+        ["draws (sets refused and redrawn)", f"{summary['n_draws']} ({summary['n_refused_sets']})"],
+        ["runs recorded (expected)", f"{summary['n_runs']} ({summary['n_runs_expected']})"],
+        *[[LABELS[k], f"{summary[k]} runs in {len(summary['draws_with'][k])} draws"] for k in PROBLEMS],
+        ["worst fixed-vs-CVODE difference", worst],
+        [f"comparisons over {tol}", f"{summary['n_over_tolerance']} of {n_cmp} in "
+                                    f"{len(summary['draws_with']['over_tolerance'])} draws"],
+        ["wall time per run, median / max (s)",
+         f"{sig(wall['median'])} / {sig(wall['max'])} (median fixed {sig(wall['fixed'].get('p50'))}, CVODE "
+         f"{sig(wall['cvode'].get('p50'))})"],
+    ])
+    rows = [[name, " / ".join(sig(p["fixed_vs_cvode_pct"].get(q)) for q in ("p50", "p90", "p99", "max")),
+             p["n_over_tolerance"], *(p[k] for k in PROBLEMS)] for name, p in summary["per_protocol"].items()]
+    lines += [""] + table(["protocol", "fixed vs CVODE, % of peak: p50 / p90 / p99 / max", f"over {tol}",
+                           *(LABELS[k] for k in PROBLEMS)], rows)
+    return lines + [""] + (bullets(summary["failures"]) if summary["failures"] else ["All checks passed."])

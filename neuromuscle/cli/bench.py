@@ -33,7 +33,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bs.add_argument("--workers", type=int, default=2, help="processes (spawned), one draw at a time each")
     bs.add_argument("--steps-per-ms", type=int, default=None,
                     help="CVODE step budget of one run per simulated ms (default 1000; CT09 needs at most 170)")
-    bs.add_argument("--run-budget-s", type=float, default=None, help="CVODE wall-time budget of one run (s; default 60)")
+    bs.add_argument("--run-budget-s", type=float, default=None,
+                    help="CVODE wall-time budget of one run (s; default 60)")
     bs.add_argument("--draw-timeout-s", type=float, default=None,
                     help="process-level timeout of one draw (s; default per protocol the run budget + 20 s)")
     bs.add_argument("--short", action="store_true", help="the protocols about half as long")
@@ -46,20 +47,23 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 def run_sweep(args: argparse.Namespace) -> int:
     from ..bench.sweep import SweepSettings, sweep
+    from ..bench.sweep_summary import markdown
     from ..reports.outdir import refuse_existing_file, write_text
     from ..validate import positive_number
 
     out = refuse_existing_file(args.out, args.overwrite) if args.out else None  # before the run
     if args.draws < 1 or args.workers < 1:
         raise InputError(f"--draws and --workers must be >= 1, got {args.draws} and {args.workers}")
-    limits = {name: positive_number(flag, value) for name, flag, value in (
-        ("run_budget_s", "--run-budget-s", args.run_budget_s), ("draw_timeout_s", "--draw-timeout-s", args.draw_timeout_s),
-        ("steps_per_ms", "--steps-per-ms", args.steps_per_ms)) if value is not None}
+    limits = {name: positive_number(f"--{name.replace('_', '-')}", getattr(args, name))
+              for name in ("steps_per_ms", "run_budget_s", "draw_timeout_s") if getattr(args, name) is not None}
     settings = SweepSettings(n_draws=args.draws, seed=args.seed, base=args.params, short=args.short, **limits)
     report = sweep(settings, workers=args.workers, progress=not args.quiet)
     if out is not None:
         write_text(out, json.dumps(report, indent=1) + "\n")
-    _print(report["summary"], args.json)
+    if args.json:
+        _print(report["summary"], True)
+    else:
+        print("\n".join(markdown(report["summary"])))
     return 1 if report["summary"]["failures"] else 0
 
 

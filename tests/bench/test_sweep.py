@@ -22,7 +22,7 @@ def test_every_run_is_recorded_and_timed(sweep_report):
     assert s["n_draws"] == 6 and s["n_runs"] == s["n_runs_expected"] == 6 * 7 * 2 == len(sweep_report["runs"])
     assert len(sweep_report["comparisons"]) == 6 * 7
     assert (s["settings"]["steps_per_ms"], s["settings"]["run_budget_s"]) == (1000, 60.0)
-    assert {p for p in s["fixed_vs_cvode_pct"]} >= {"twitch", "train10", "train40", "train100", "random_length",
+    assert set(s["per_protocol"]) >= {"twitch", "train10", "train40", "train100", "random_length",
                                                      "random_length_mc", "ramp50", "ramp200_mc"}
 
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from neuromuscle import NumericalError
-from neuromuscle.bench.sweep_summary import error_status, failures, fixed_vs_cvode_pct, run_record, summarise
+from neuromuscle.bench.sweep_summary import comparison, error_status, failures, run_record, summarise
 
 T = np.linspace(0.0, 1.0, 101)
 FORCE = 3.0 * np.sin(np.pi * T) ** 2  # N
@@ -12,7 +12,7 @@ FORCE = 3.0 * np.sin(np.pi * T) ** 2  # N
 
 def _clean(draw=0, protocol="twitch"):
     runs = [run_record(draw, protocol, m, 100.0, 0.1, force_N=FORCE) for m in ("fixed", "cvode")]
-    return runs, [{"draw": draw, "protocol": protocol, "pct": fixed_vs_cvode_pct(FORCE, FORCE * 1.001)}]
+    return runs, [comparison(draw, protocol, FORCE, FORCE * 1.001)]
 
 
 def test_a_clean_sweep_passes():
@@ -20,8 +20,8 @@ def test_a_clean_sweep_passes():
     s = summarise(runs, comparisons, seed=3, n_draws=1, n_runs_expected=2)
     assert s["failures"] == [] and s["seed"] == 3 and s["n_runs"] == 2
     assert s["worst_fixed_vs_cvode_pct"] == {"pct": pytest.approx(0.1 * 3 / 3.003, rel=1e-6), "draw": 0,
-                                             "protocol": "twitch"}
-    assert s["fixed_vs_cvode_pct"]["twitch"]["n"] == 1 and s["wall_s"]["median"] == 0.1
+                                             "protocol": "twitch", "peak_N": pytest.approx(3.003)}
+    assert s["per_protocol"]["twitch"]["fixed_vs_cvode_pct"]["n"] == 1 and s["wall_s"]["median"] == 0.1
 
 
 def test_an_injected_nan_is_counted_as_nonfinite():
@@ -29,7 +29,7 @@ def test_an_injected_nan_is_counted_as_nonfinite():
     bad[40] = np.nan
     runs, comparisons = _clean()
     runs.append(run_record(1, "twitch", "fixed", 100.0, 0.1, force_N=bad))
-    comparisons.append({"draw": 1, "protocol": "twitch", "pct": fixed_vs_cvode_pct(bad, FORCE)})
+    comparisons.append(comparison(1, "twitch", bad, FORCE))
     s = summarise(runs, comparisons, seed=0, n_draws=2)
     assert s["nonfinite"] == 1 and s["draws_with"]["nonfinite"] == [1]
     assert "1 run(s) gave non-finite values" in s["failures"]
@@ -44,13 +44,14 @@ def test_negative_force_exceptions_hangs_and_large_differences_fail():
                             "ms of 400 ms (atol 0.001); raise max_wall_s")
     runs.append(run_record(4, "twitch", "cvode", 400.0, 10.0, error=budget, t_reached_ms=12.5))
     runs.append(run_record(5, "twitch", "cvode", 400.0, 99.0, error="killed after 99 s", status="timeout"))
-    comparisons.append({"draw": 6, "protocol": "random_length", "pct": fixed_vs_cvode_pct(FORCE, FORCE * 1.02)})
+    comparisons.append(comparison(6, "random_length", FORCE, FORCE * 1.02))
     s = summarise(runs, comparisons, seed=0, n_draws=7, n_runs_expected=14)
     assert (s["negative_force"], s["exceptions"], s["hangs"], s["nonfinite"]) == (1, 1, 2, 0)
     assert s["exceptions_by_class"] == {"ZeroDivisionError: float division by zero": 1}
     assert [(h["draw"], h["t_reached_ms"]) for h in s["examples"]["hangs"]] == [(4, 12.5), (5, None)]
     assert s["worst_fixed_vs_cvode_pct"]["draw"] == 6 and s["worst_fixed_vs_cvode_pct"]["pct"] > 1.9
-    assert s["fixed_vs_cvode_pct"]["random_length"]["n_over_tolerance"] == 1
+    assert s["per_protocol"]["random_length"]["n_over_tolerance"] == 1 and s["n_over_tolerance"] == 1
+    assert s["per_protocol"]["twitch"]["hangs"] == 2 and s["per_protocol"]["train10"]["exceptions"] == 1
     assert len(s["failures"]) == 5  # exceptions, hangs, negative force, difference, missing runs
     assert "6 runs recorded of 14 expected" in s["failures"]
 
