@@ -1,4 +1,4 @@
-"""``neuromuscle bench unit | fit | intervals``: benchmarks; each default run takes about two minutes, ``--full``
+"""``neuromuscle bench unit | fit | intervals | sweep``: benchmarks; each default run takes about two minutes, ``--full``
 longer."""
 
 from __future__ import annotations
@@ -41,6 +41,55 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bi.add_argument("--per-draw", action="store_true", help="with --json: every draw's estimates and intervals")
     bi.add_argument("--json", action="store_true")
     bi.set_defaults(func=run)
+    bs = bsub.add_parser("sweep", help="random parameter sets around --params under the seeds' protocols, fixed "
+                                       "step and CVODE: exceptions, hangs, non-finite or negative force, "
+                                       "fixed-vs-CVODE difference; exit code 1 when a check fails")
+    bs.add_argument("--params", default="CT09", help="the set the draws scatter around")
+    bs.add_argument("--draws", type=int, default=10, help="parameter sets (default 10: about two minutes)")
+    bs.add_argument("--seed", type=int, default=0)
+    bs.add_argument("--workers", type=int, default=2, help="processes (spawned), one draw at a time each")
+    bs.add_argument("--steps-per-ms", type=int, default=None,
+                    help="CVODE step budget of one run per simulated ms (default 1000; CT09 needs at most 170)")
+    bs.add_argument("--run-budget-s", type=float, default=None,
+                    help="CVODE wall-time budget of one run (s; default 60)")
+    bs.add_argument("--draw-timeout-s", type=float, default=None,
+                    help="process-level timeout of one draw (s; default per protocol the run budget + 20 s)")
+    bs.add_argument("--short", action="store_true", help="the protocols about half as long")
+    bs.add_argument("--out", default=None, help="write the full report (summary, draws, every run) as JSON")
+    bs.add_argument("--overwrite", action="store_true", help="replace an existing --out file")
+    bs.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    bs.add_argument("--json", action="store_true")
+    bs.set_defaults(func=run_sweep)
+
+
+def run_sweep(args: argparse.Namespace) -> int:
+    from ..bench.sweep import SweepSettings, sweep
+    from ..bench.sweep_summary import markdown
+    from ..reports.outdir import refuse_existing_file, write_text
+    from ..validate import positive_number
+
+    out = refuse_existing_file(args.out, args.overwrite) if args.out else None  # before the run
+    if args.draws < 1 or args.workers < 1:
+        raise InputError(f"--draws and --workers must be >= 1, got {args.draws} and {args.workers}")
+    limits = {name: positive_number(f"--{name.replace('_', '-')}", getattr(args, name))
+              for name in ("steps_per_ms", "run_budget_s", "draw_timeout_s") if getattr(args, name) is not None}
+    settings = SweepSettings(n_draws=args.draws, seed=args.seed, base=args.params, short=args.short, **limits)
+    report = sweep(settings, workers=args.workers, progress=not args.quiet)
+    if out is not None:
+        write_text(out, json.dumps(report, indent=1) + "\n")
+    if args.json:
+        _print(report["summary"], True)
+    else:
+        print("\n".join(markdown(report["summary"])))
+    return 1 if report["summary"]["failures"] else 0
+
+
+def _print(res: dict, as_json: bool) -> None:
+    if as_json:
+        print(json.dumps(res, indent=2))
+    else:
+        for k, v in res.items():
+            print(f"{k:45s} {v}")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -71,9 +120,5 @@ def run(args: argparse.Namespace) -> int:
         repeats = args.repeats if args.repeats is not None else (3 if args.full else 2)
         res = bench_unit(params, duration_ms=duration, repeats=repeats, pool_units=args.pool_units,
                          full=args.full)
-    if args.json:
-        print(json.dumps(res, indent=2))
-    else:
-        for k, v in res.items():
-            print(f"{k:45s} {v}")
+    _print(res, args.json)
     return 0

@@ -1,0 +1,39 @@
+"""``neuromuscle bench sweep`` on a small sample (6 draws around CT09, short protocols, fixed step and CVODE):
+no hang, no exception, no non-finite value, no negative force, fixed step within 1 % of peak of CVODE."""
+
+import json
+
+import pytest
+
+from neuromuscle.cli import main
+
+
+@pytest.fixture(scope="module")
+def sweep_report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("sweep") / "sweep.json"
+    code = main(["bench", "sweep", "--draws", "6", "--short", "--quiet", "--json", "--out", str(out)])
+    report = json.loads(out.read_text())
+    assert code == (1 if report["summary"]["failures"] else 0)
+    return report
+
+
+def test_every_run_is_recorded_and_timed(sweep_report):
+    s = sweep_report["summary"]
+    assert s["n_draws"] == 6 and s["n_runs"] == s["n_runs_expected"] == 6 * 7 * 2 == len(sweep_report["runs"])
+    assert len(sweep_report["comparisons"]) == 6 * 7
+    assert (s["settings"]["steps_per_ms"], s["settings"]["run_budget_s"]) == (1000, 60.0)
+    assert set(s["per_protocol"]) >= {"twitch", "train10", "train40", "train100", "random_length",
+                                                     "random_length_mc", "ramp50", "ramp200_mc"}
+
+
+def test_no_hang_exception_nonfinite_value_or_negative_force(sweep_report):
+    s = sweep_report["summary"]
+    assert (s["hangs"], s["exceptions"], s["nonfinite"], s["negative_force"]) == (0, 0, 0, 0), s["examples"]
+
+
+@pytest.mark.xfail(strict=True, reason="issue 11, docs/robustness.md: Module 3's fixed step reports F before its "
+                                       "CE state update (F lags by P0 KSE vm dt); draw 1 (eq 19 drives A to its "
+                                       "1e-3 floor) differs by 48 % of its 0.09 N peak")
+def test_fixed_step_within_one_percent_of_cvode(sweep_report):
+    worst = sweep_report["summary"]["worst_fixed_vs_cvode_pct"]
+    assert worst["pct"] <= 1.0, worst

@@ -1,0 +1,26 @@
+"""Sweep draws: reproducible, inside the bounds, signs kept, refused sets redrawn and counted."""
+
+import numpy as np
+
+from neuromuscle.bench.sweep_draws import draw
+from neuromuscle.parameters import SPECS, kim_parameter_names
+
+
+def test_draws_are_reproducible_inside_bounds_and_keep_signs(ct09):
+    a, b, c = draw(ct09, 7, 3), draw(ct09, 7, 3), draw(ct09, 7, 4)
+    assert a.params.values == b.params.values and a.length_seed == b.length_seed
+    assert a.params.values != c.params.values and (a.movement_compensation, c.movement_compensation) == (True, False)
+    for n in kim_parameter_names():
+        v, spec = a.params[n], SPECS[n]
+        assert spec.lower <= v <= spec.upper and 0.5 <= a.factors[n] <= 2.0
+        assert np.sign(v) == np.sign(ct09[n])
+        assert v == np.clip(ct09[n] * a.factors[n], spec.lower, spec.upper)
+    assert not a.refused
+
+
+def test_refused_sets_are_redrawn_and_counted(ct09):
+    near = ct09.with_values(c0=-0.9 * ct09["P0"])  # c0 * f <= -P0 * g for many factor pairs
+    draws = [draw(near, 0, i) for i in range(10)]
+    assert sum(len(d.refused) for d in draws) > 0
+    assert all("c0" in msg for d in draws for msg in d.refused)
+    assert all(d.params["c0"] > -d.params["P0"] for d in draws)
