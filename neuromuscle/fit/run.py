@@ -18,8 +18,8 @@ from ..analysis.metrics import nrmse_percent
 from ..parameters import SPECS, ParameterSet
 from .checkpoint import Tracker, read_checkpoint
 from .evaluate import MapFn, candidate_map, evaluate_candidate
-from .optimizers import fd_jacobian, praxis, trust_region_least_squares
 from .intervals import INTERVAL_METHODS, fit_uncertainty
+from .optimizers import fd_jacobian, praxis, trust_region_least_squares
 from .problem import FitProblem
 from .uncertainty import Rules, Uncertainty, describe_method
 
