@@ -2,13 +2,14 @@
 replaced (``concurrent.futures`` can only stop waiting for such a task, not end it).
 
 Workers start by ``spawn`` (as in ``neuromuscle.fit.evaluate``), each one a fresh interpreter with its own
-NEURON.  A task is ``fn(item, emit)``: ``emit(message)`` sends a picklable message to the parent at once, so what
-a task reported before it was killed is kept.
+NEURON, whose stdout is its stderr.  A task is ``fn(item, emit)``: ``emit(message)`` sends a picklable message to
+the parent at once, so what a task reported before it was killed is kept.
 """
 
 from __future__ import annotations
 
 import multiprocessing
+import os
 import time
 import traceback
 from collections import deque
@@ -33,7 +34,9 @@ class Outcome:
 
 
 def _serve(conn: Connection, fn: Task) -> None:
-    """Worker loop: run each (index, item) received, until None."""
+    """Worker loop: run each (index, item) received, until None.  What the task prints (NEURON's own messages
+    too) goes to stderr: the parent's stdout stays its own."""
+    os.dup2(2, 1)
     while True:
         task = conn.recv()
         if task is None:
@@ -93,7 +96,7 @@ def guarded_map(fn: Task, items: Iterable[Any], workers: int, timeout_s: float,
     ``fn`` must be importable (a module-level function)."""
     ctx = multiprocessing.get_context(mp_context)
     pending = deque(enumerate(items))
-    pool = [_Worker(ctx, fn) for _ in range(max(1, min(workers, len(pending))))]
+    pool = [_Worker(ctx, fn) for _ in range(min(max(1, workers), len(pending)))]
     try:
         while pending or any(w.outcome for w in pool):
             for w in pool:

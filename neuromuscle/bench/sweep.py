@@ -16,13 +16,15 @@ from __future__ import annotations
 import sys
 import time
 from dataclasses import asdict, dataclass
+from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
 from ..parameters import ParameterSet, load_parameters
-from .guarded_pool import guarded_map
+from .guarded_pool import Outcome, guarded_map
 from .sweep_draws import FACTOR_RANGE, draw
+from .sweep_journal import append_draw, open_journal
 from .sweep_protocols import Protocol, sweep_protocols
 from .sweep_summary import comparison, run_record, summarise
 
@@ -110,6 +112,16 @@ def run_draw(task: dict[str, Any], emit: Callable[[dict[str, Any]], None]) -> No
                   "comparison": comparison(task["draw"], protocol.name, forces["fixed"], forces["cvode"])})
 
 
+def _records(draw_index: int, outcome: Outcome) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
+    """The run records and comparisons of one draw's outcome, with a record for the run a killed, dead or failed
+    draw was in."""
+    runs = [m["record"] for m in outcome.messages if m["kind"] == "run"]
+    if outcome.status != "done":
+        status = "exception" if outcome.status == "error" else outcome.status
+        runs.append(_unfinished_run(draw_index, outcome.messages, status, outcome.error or ""))
+    return runs, [m["comparison"] for m in outcome.messages if m["kind"] == "comparison"]
+
+
 def _unfinished_run(draw_index: int, messages: list[dict[str, Any]], status: str, error: str) -> dict[str, Any]:
     """The record of the run a killed, dead or failed draw was in (from its last "start" message)."""
     started = next((m for m in reversed(messages) if m["kind"] in ("start", "run")), None)
@@ -119,36 +131,42 @@ def _unfinished_run(draw_index: int, messages: list[dict[str, Any]], status: str
                       time.time() - started["at"], error=error, status=status)
 
 
-def _progress(done: int, total: int, runs: list[dict[str, Any]], started: float) -> None:
-    if done % max(1, total // 20) and done != total:
+def _progress(done: int, total: int, runs: list[dict[str, Any]], started: float, ran: int) -> None:
+    """A progress line on stderr every 10 draws (every draw of a short sweep); ``ran`` draws ran in this call."""
+    if done % max(1, min(10, total // 20)) and done != total:
         return
     elapsed = time.monotonic() - started
     bad = sum(r["status"] != "ok" for r in runs)
     print(f"sweep: {done}/{total} draws, {len(runs)} runs, {bad} not ok, {elapsed / 60:.1f} min, "
-          f"about {elapsed / done * (total - done) / 60:.1f} min left", file=sys.stderr, flush=True)
+          f"about {elapsed / ran * (total - done) / 60:.1f} min left", file=sys.stderr, flush=True)
 
 
-def sweep(settings: SweepSettings, workers: int = 2, progress: bool = True) -> dict[str, Any]:
+def sweep(settings: SweepSettings, workers: int = 2, progress: bool = True,
+          journal: str | Path | None = None) -> dict[str, Any]:
     """Run the sweep in ``workers`` processes; returns {"summary", "draws", "runs", "comparisons"}: the summary
     (``sweep_summary.summarise`` plus the settings, total wall time in s and the worst draw's parameters), each
-    draw's factors and refusals, and every run record and comparison."""
+    draw's factors and refusals, and every run record and comparison.  With ``journal`` (a file) each finished
+    draw is appended to it, and the draws it already holds are taken from it (``sweep_journal``)."""
     from ..sim import Simulator
 
     base = load_parameters(settings.base)
     draws = [draw(base, settings.seed, i, settings.factor_range) for i in range(settings.n_draws)]
+    done = open_journal(journal, asdict(settings)) if journal is not None else {}
+    runs = [r for d in done.values() for r in d["runs"]]
+    comparisons = [c for d in done.values() for c in d["comparisons"]]
     tasks = [{"draw": d.index, "name": d.params.name, "values": dict(d.params.values), "length_seed": d.length_seed,
-              "movement_compensation": d.movement_compensation, "settings": asdict(settings)} for d in draws]
-    runs: list[dict[str, Any]] = []
-    comparisons: list[dict[str, Any]] = []
+              "movement_compensation": d.movement_compensation, "settings": asdict(settings)}
+             for d in draws if d.index not in done]
     started = time.monotonic()
-    for done, outcome in enumerate(guarded_map(run_draw, tasks, workers, settings.timeout_s()), start=1):
-        runs += [m["record"] for m in outcome.messages if m["kind"] == "run"]
-        comparisons += [m["comparison"] for m in outcome.messages if m["kind"] == "comparison"]
-        if outcome.status != "done":
-            status = "exception" if outcome.status == "error" else outcome.status
-            runs.append(_unfinished_run(outcome.index, outcome.messages, status, outcome.error or ""))
+    for n, outcome in enumerate(guarded_map(run_draw, tasks, workers, settings.timeout_s()), start=len(done) + 1):
+        index = tasks[outcome.index]["draw"]
+        draw_runs, draw_comparisons = _records(index, outcome)
+        runs += draw_runs
+        comparisons += draw_comparisons
+        if journal is not None:
+            append_draw(journal, index, draw_runs, draw_comparisons)
         if progress:
-            _progress(done, len(tasks), runs, started)
+            _progress(n, len(draws), runs, started, n - len(done))
     summary = summarise(runs, comparisons, seed=settings.seed, n_draws=settings.n_draws,
                         n_refused=sum(len(d.refused) for d in draws),
                         n_runs_expected=settings.n_draws * settings.protocols_per_draw() * len(METHODS))

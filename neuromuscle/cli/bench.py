@@ -57,6 +57,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bs.add_argument("--short", action="store_true", help="the protocols about half as long")
     bs.add_argument("--out", default=None, help="write the full report (summary, draws, every run) as JSON")
     bs.add_argument("--overwrite", action="store_true", help="replace an existing --out file")
+    bs.add_argument("--journal", default=None,
+                    help="append each finished draw to this file (JSON lines); if it exists, reuse its draws (resume)")
     bs.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     bs.add_argument("--json", action="store_true")
     bs.set_defaults(func=run_sweep)
@@ -74,7 +76,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     limits = {name: positive_number(f"--{name.replace('_', '-')}", getattr(args, name))
               for name in ("steps_per_ms", "run_budget_s", "draw_timeout_s") if getattr(args, name) is not None}
     settings = SweepSettings(n_draws=args.draws, seed=args.seed, base=args.params, short=args.short, **limits)
-    report = sweep(settings, workers=args.workers, progress=not args.quiet)
+    report = sweep(settings, workers=args.workers, progress=not args.quiet, journal=args.journal)
     if out is not None:
         write_text(out, json.dumps(report, indent=1) + "\n")
     if args.json:

@@ -8,6 +8,7 @@ from neuromuscle.bench.guarded_pool import guarded_map
 
 
 def _task(item, emit):
+    print(f"worker prints {item}")
     emit(("started", item))
     if item == "hang":
         time.sleep(600)
@@ -18,7 +19,7 @@ def _task(item, emit):
     emit(("finished", item))
 
 
-def test_hung_raising_and_dying_tasks_are_reported_and_the_rest_run():
+def test_hung_raising_and_dying_tasks_are_reported_and_the_rest_run(capfd):
     items = ["ok1", "hang", "raise", "die", "ok2", "ok3"]
     start = time.monotonic()
     outcomes = {o.index: o for o in guarded_map(_task, items, workers=2, timeout_s=5.0)}
@@ -31,3 +32,5 @@ def test_hung_raising_and_dying_tasks_are_reported_and_the_rest_run():
     assert "ValueError: bad item" in outcomes[2].error
     assert "exit code 3" in outcomes[3].error
     assert outcomes[5].messages == [("started", "ok3"), ("finished", "ok3")]
+    out, err = capfd.readouterr()
+    assert "worker prints" not in out and "worker prints ok3" in err  # the parent's stdout stays its own

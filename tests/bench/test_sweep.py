@@ -8,13 +8,30 @@ import pytest
 from neuromuscle.cli import main
 
 
+ARGS = ["bench", "sweep", "--draws", "6", "--short", "--quiet", "--json"]
+
+
 @pytest.fixture(scope="module")
-def sweep_report(tmp_path_factory):
-    out = tmp_path_factory.mktemp("sweep") / "sweep.json"
-    code = main(["bench", "sweep", "--draws", "6", "--short", "--quiet", "--json", "--out", str(out)])
+def sweep_folder(tmp_path_factory):
+    return tmp_path_factory.mktemp("sweep")
+
+
+@pytest.fixture(scope="module")
+def sweep_report(sweep_folder):
+    out = sweep_folder / "sweep.json"
+    code = main([*ARGS, "--out", str(out), "--journal", str(sweep_folder / "journal.jsonl")])
     report = json.loads(out.read_text())
     assert code == (1 if report["summary"]["failures"] else 0)
     return report
+
+
+def test_a_finished_journal_gives_the_same_summary_without_running(sweep_report, sweep_folder, capsys):
+    capsys.readouterr()
+    main([*ARGS, "--journal", str(sweep_folder / "journal.jsonl")])
+    again = json.loads(capsys.readouterr().out)
+    drop = ("total_wall_s",)
+    assert {k: v for k, v in again.items() if k not in drop} == \
+        {k: v for k, v in sweep_report["summary"].items() if k not in drop}
 
 
 def test_every_run_is_recorded_and_timed(sweep_report):
