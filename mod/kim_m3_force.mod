@@ -20,7 +20,9 @@ integrates exactly this right-hand side.  The fixed step uses the linearly impli
 step would end beyond Fl = Fc + asym (Fa - Fc) (asym = 0.95: the steep part, where a linearised step
 overshoots the pole), and at the SE's slack/taut boundary (where the Hill hyperbola bends so sharply that a
 linearised step stalls at F = 0), and on eq 11 wherever the force would move by more than lincurv (2 %) of its
-distance to the pole within one step (fast eccentric motion), it takes a backward-Euler step of the same
+distance to the pole within one step (fast eccentric motion), and likewise on eq 10 relative to its pole at
+F = -a0 Fc/P0 (a nearly silent unit moved: at low activation the hyperbola bends within a step and a linearised
+step oscillates), it takes a backward-Euler step of the same
 equation instead, solving F + k h v(F) = k (Xm - XCE) for the step's end force F (k = P0 KSE; safeguarded
 Newton).  Isometric and shortening trials never meet these cases, so their numbers are unchanged.  nasym counts the fixed
 steps that end beyond Fl: information (the CE was yielding), not an error.  With no activation (Fc = 0) a taut
@@ -33,7 +35,9 @@ Coupling: POINTER act -> activation A (1) of an excitation mechanism (KimAct, or
                    output F = Fse + force_offset; the CE-SE dynamics see Fse only.  Read only when use_ports = 1
                    (set by the Python wiring, which points it at RANGE zero when unused), else 0.
 Numerics: fixed step: one linearly implicit (Rosenbrock-Euler) step with the exact dv/dF (L-stable for the
-stiff SE-CE loop at low activation); CVODE: exact right-hand side written a - b XCE (see KimCa).
+stiff SE-CE loop at low activation); F and vce are then recomputed from the updated XCE, so the fixed step
+reports the force at the step's end (as CVODE does), not at its start; CVODE: exact right-hand side written
+a - b XCE (see KimCa).
 ENDCOMMENT
 
 NEURON {
@@ -107,6 +111,13 @@ INITIAL {
 
 BREAKPOINT {
     SOLVE states METHOD euler
+    if (!cvode_on()) {
+        : fixed step: report F and vce of the updated CE state (the DERIVATIVE block's are the step's start)
+        xl = xm
+        al = act
+        se_force()
+        velocity()
+    }
 }
 
 DERIVATIVE states {
@@ -145,6 +156,10 @@ DERIVATIVE states {
                 : on eq 11 the force moves by more than lincurv of its distance to the pole within the step:
                 : the linearised step is poor there (fast eccentric motion); backward Euler is not
                 implicit_step(dt)
+            } else if (fend < Fc && Fse < Fc && fabs((fend - Fse)/(1 (N))) > lincurv*(fmin(fend, Fse) + a0*Fc/P0)/(1 (N))) {
+                : likewise on eq 10, whose pole is at F = -a0 Fc/P0: at low activation the Hill hyperbola bends
+                : within a step and a linearised step overshoots into oscillation (a nearly silent unit moved)
+                implicit_step(dt)
             } else if (Fse <= 0 || fend <= 0) {
                 : slack, or at the SE's slack/taut boundary, where the Hill hyperbola bends sharply (pole at
                 : F = -a0 Fc/P0): a linearised step (or stopping where the SE becomes taut) stalls at F = 0
@@ -155,6 +170,14 @@ DERIVATIVE states {
     }
     xce' = aa - bb*xce
     se_force()
+}
+
+FUNCTION fmin(a (N), b (N)) (N) {
+    if (a < b) {
+        fmin = a
+    } else {
+        fmin = b
+    }
 }
 
 FUNCTION fmax(a (N), b (N)) (N) {

@@ -48,9 +48,6 @@ def test_no_hang_exception_nonfinite_value_or_negative_force(sweep_report):
     assert (s["hangs"], s["exceptions"], s["nonfinite"], s["negative_force"]) == (0, 0, 0, 0), s["examples"]
 
 
-@pytest.mark.xfail(strict=True, reason="issue 11 (open): Module 3's fixed step reports F before its "
-                                       "CE state update (F lags by P0 KSE vm dt); draw 1 (eq 19 drives A to its "
-                                       "1e-3 floor) differs by 48 % of its 0.09 N peak")
 def test_fixed_step_within_one_percent_of_cvode(sweep_report):
     worst = sweep_report["summary"]["worst_fixed_vs_cvode_pct"]
     assert worst["pct"] <= 1.0, worst
