@@ -20,9 +20,9 @@ from typing import Any, Mapping
 import h5py
 import numpy as np
 
-from ..errors import InputError
 from ..reports.outdir import atomic_path, refuse_existing_file
 from ..sim.provenance import provenance
+from ..sim.results import open_with_schema
 
 SCHEMA = "neuromuscle.pool/1"
 
@@ -119,14 +119,7 @@ class PoolResult:
 
 def load_pool_result(path: str | Path) -> PoolResult:
     """Read a file written by PoolResult.save."""
-    path = Path(path)
-    try:
-        f = h5py.File(path, "r")
-    except OSError as exc:
-        raise InputError(f"{path}: not a readable HDF5 file ({exc})") from None
-    with f:
-        if f.attrs.get("schema") != SCHEMA:
-            raise InputError(f"{path}: schema is {f.attrs.get('schema')!r}, expected {SCHEMA!r}")
+    with open_with_schema(Path(path), SCHEMA) as f:
         types = json.loads(f["units"].attrs["types"])
         cols = {c: f["units"][c][()] for c in f["units"]}
         units = [{"index": int(cols["index"][i]), "type": types[i],
