@@ -93,16 +93,23 @@ def save_result(result: SimulationResult, path: str | Path, overwrite: bool = Fa
     return path
 
 
-def load_result(path: str | Path) -> SimulationResult:
-    """Read a file written by save_result (read-only)."""
-    path = Path(path)
+def open_with_schema(path: Path, schema: str) -> h5py.File:
+    """``path`` opened read-only; InputError unless it is an HDF5 file whose ``schema`` attribute is ``schema``."""
     try:
         f = h5py.File(path, "r")
     except OSError as exc:
         raise InputError(f"{path}: not a readable HDF5 file ({exc})") from None
-    with f:
-        if f.attrs.get("schema") != SCHEMA:
-            raise InputError(f"{path}: schema is {f.attrs.get('schema')!r}, expected {SCHEMA!r}")
+    if f.attrs.get("schema") != schema:
+        found = f.attrs.get("schema")
+        f.close()
+        raise InputError(f"{path}: schema is {found!r}, expected {schema!r}")
+    return f
+
+
+def load_result(path: str | Path) -> SimulationResult:
+    """Read a file written by save_result (read-only)."""
+    path = Path(path)
+    with open_with_schema(path, SCHEMA) as f:
         params = parameters_from_json(json.loads(f.attrs["parameters"]), str(path))
         prov = json.loads(f.attrs["provenance"])
         traces = {k: f["traces"][k][()] for k in f["traces"]}

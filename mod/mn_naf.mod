@@ -1,0 +1,77 @@
+COMMENT
+Motoneuron fast sodium current (spike upstroke), soma: i = gbar m^3 h (v - ena).
+
+Kinetics: Booth, Rinzel & Kiehn 1997 (J Neurophysiol 78:3371-3385, two-compartment motoneuron, Table 1) in the
+form used by Kim 2017 (J Neurophysiol 118:3246, ModelDB 266732) and Kim et al. 2020 (ModelDB 267184), Naf.mod:
+  alpha_m = 0.4 (v+49) / (1 - exp(-(v+49)/5)),  beta_m = 0.4 (v+25) / (exp((v+25)/5) - 1)   (1/ms, v in mV)
+  h_inf = 1 / (1 + exp((v+58)/7)),  tau_h = 30 / (exp((v+60)/15) + exp(-(v+60)/16))          (ms)
+Written here anew; the removable singularities of alpha_m, beta_m are handled by vtrap.  Units: mV, ms, S/cm2.
+ENDCOMMENT
+
+NEURON {
+    SUFFIX mn_naf
+    THREADSAFE
+    USEION na READ ena WRITE ina
+    RANGE gbar, g
+}
+
+UNITS {
+    (mA) = (milliamp)
+    (mV) = (millivolt)
+    (S) = (siemens)
+}
+
+PARAMETER {
+    gbar = 0.7 (S/cm2)
+}
+
+ASSIGNED {
+    v (mV)
+    ena (mV)
+    ina (mA/cm2)
+    g (S/cm2)
+    minf (1)
+    mtau (ms)
+    hinf (1)
+    htau (ms)
+}
+
+STATE { m h }
+
+BREAKPOINT {
+    SOLVE states METHOD cnexp
+    g = gbar * m * m * m * h
+    ina = g * (v - ena)
+}
+
+INITIAL {
+    rates(v)
+    m = minf
+    h = hinf
+}
+
+DERIVATIVE states {
+    rates(v)
+    m' = (minf - m) / mtau
+    h' = (hinf - h) / htau
+}
+
+PROCEDURE rates(v (mV)) { LOCAL a, b
+    UNITSOFF
+    a = 0.4 * vtrap(v + 49, 5)
+    b = 0.4 * vtrap(-(v + 25), 5)
+    mtau = 1 / (a + b)
+    minf = a / (a + b)
+    hinf = 1 / (1 + exp((v + 58) / 7))
+    htau = 30 / (exp((v + 60) / 15) + exp(-(v + 60) / 16))
+    UNITSON
+}
+
+FUNCTION vtrap(x, y) {
+    : x / (1 - exp(-x/y)), continuous through x = 0 (limit y)
+    if (fabs(x / y) < 1e-6) {
+        vtrap = y * (1 + x / y / 2)
+    } else {
+        vtrap = x / (1 - exp(-x / y))
+    }
+}

@@ -1,0 +1,94 @@
+"""A pool's definition: N motor units in recruitment order, each a motoneuron (size index, type) and its muscle
+unit (P0, twitch speed, extensions).  Pure data, checked on construction; nothing is built in NEURON here."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+
+from ..errors import InputError
+from ..parameters import ParameterSet
+from ..validate import finite_number, positive_number
+from .motoneuron import TYPES, MotoneuronParameters, motoneuron_parameters, unit_type_of
+from .units import TWITCH_SPEED, p0_spread_N, unit_muscle_parameters
+
+
+@dataclass(frozen=True)
+class UnitSpec:
+    """One motor unit: index (= gid), type, its motoneuron's and its muscle unit's parameters, extensions."""
+
+    index: int
+    unit_type: str
+    motoneuron: MotoneuronParameters
+    muscle: ParameterSet
+    speed: float = 1.0
+    extensions: Mapping[str, Mapping[str, float]] = field(default_factory=dict)
+
+    def row(self) -> dict[str, Any]:
+        """The unit's summary (for tables and HDF5)."""
+        return {"index": self.index, "type": self.unit_type, "size": self.motoneuron.size,
+                "P0_N": self.muscle["P0"], "axon_delay_ms": self.motoneuron.axon_delay_ms,
+                "twitch_speed": self.speed}
+
+
+@dataclass(frozen=True)
+class PoolDefinition:
+    """N units in recruitment order (size index from 0 to ``max_size``), types by ``type_fractions`` (S, FR, FF),
+    P0 from ``smallest_p0_N`` over ``p0_range`` (largest / smallest), twitch speed by type (``twitch_speed``),
+    axon length ``axon_length_mm`` (mm).  ``extensions``: {unit index: {extension: {param: value}}} or one
+    mapping for every unit (key "all").  ``motoneuron_overrides``: fields replaced in every motoneuron."""
+
+    n_units: int
+    muscle: ParameterSet
+    smallest_p0_N: float = 0.05
+    p0_range: float = 100.0
+    type_fractions: tuple[float, float, float] = (0.25, 0.25, 0.5)
+    twitch_speed: Mapping[str, float] = field(default_factory=lambda: dict(TWITCH_SPEED))
+    max_size: float = 1.0
+    axon_length_mm: float = 600.0
+    extensions: Mapping[Any, Mapping[str, Mapping[str, float]]] = field(default_factory=dict)
+    motoneuron_overrides: Mapping[str, Any] = field(default_factory=dict)
+    name: str = "pool"
+
+    def __post_init__(self) -> None:
+        where = f"pool {self.name!r}"
+        if isinstance(self.n_units, bool) or not isinstance(self.n_units, (int, np.integer)) or self.n_units < 1:
+            raise InputError(f"{where}: n_units must be an integer >= 1, got {self.n_units!r}")
+        if not isinstance(self.muscle, ParameterSet):
+            raise InputError(f"{where}: muscle must be a ParameterSet (load_parameters), got {type(self.muscle)}")
+        size = finite_number(f"{where}: max_size", self.max_size)
+        if not 0.0 <= size <= 1.0:
+            raise InputError(f"{where}: max_size must lie in [0, 1], got {size}")
+        positive_number(f"{where}: axon_length_mm", self.axon_length_mm)
+        if set(self.twitch_speed) != set(TYPES):
+            raise InputError(f"{where}: twitch_speed must give {', '.join(TYPES)}, got {sorted(self.twitch_speed)}")
+        for t, k in self.twitch_speed.items():
+            positive_number(f"{where}: twitch_speed[{t}]", k)
+        bad = [k for k in self.extensions if k != "all" and not (isinstance(k, (int, np.integer))
+                                                                and 0 <= k < self.n_units)]
+        if bad:
+            raise InputError(f"{where}: extensions keys must be unit indices 0..{self.n_units - 1} or 'all', got {bad}")
+        unit_type_of(0.0, tuple(self.type_fractions))  # checks the fractions
+        p0_spread_N(int(self.n_units), self.smallest_p0_N, self.p0_range)
+        object.__setattr__(self, "_units", None)
+
+    def units(self) -> list[UnitSpec]:
+        """Every unit's specification, in recruitment order (cached)."""
+        if self._units is None:  # type: ignore[has-type]
+            n = int(self.n_units)
+            p0 = p0_spread_N(n, self.smallest_p0_N, self.p0_range)
+            out = []
+            for i in range(n):
+                x = self.max_size * (i / (n - 1) if n > 1 else 0.0)
+                t = unit_type_of(i / n if n > 1 else 0.0, tuple(self.type_fractions))
+                mn = motoneuron_parameters(x, unit_type=t, axon_length_mm=self.axon_length_mm,
+                                           **dict(self.motoneuron_overrides))
+                muscle = unit_muscle_parameters(self.muscle, float(p0[i]), self.twitch_speed[t],
+                                                name=f"{self.muscle.name}:{self.name}[{i}]")
+                ext = dict(self.extensions.get("all", {}))
+                ext.update(self.extensions.get(i, {}))
+                out.append(UnitSpec(i, t, mn, muscle, self.twitch_speed[t], ext))
+            object.__setattr__(self, "_units", out)
+        return list(self._units)  # type: ignore[arg-type]

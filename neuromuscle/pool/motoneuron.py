@@ -1,0 +1,195 @@
+"""A reduced motoneuron in NEURON: soma + one dendrite, its parameters scaled by cell size across S, FR and FF.
+
+    mn = Motoneuron(motoneuron_parameters(0.0))      # the smallest S cell; 1.0 is the largest FF cell
+    mn.soma, mn.dend                                 # NEURON sections; mn.spike_source() for NetCons
+    mn.axon_delay_ms                                 # axon conduction delay to the muscle (ms)
+    mn.destroy()
+
+Channels (mod/mn_*.mod, kinetics and sources in each header): soma mn_naf, mn_kdr, mn_can (N-type Ca),
+mn_cadyn (submembrane Ca), mn_kca (the AHP), leak (pas); dendrite mn_cal (L-type Ca PIC) and leak.  The structure
+is that of Booth, Rinzel & Kiehn 1997 (two compartments, PIC in the dendrite); the geometry is an equivalent
+cylinder dendrite.
+
+Size scaling (``motoneuron_parameters``): the size index x in [0, 1] places a cell between the smallest S and
+the largest FF motoneuron; every size-dependent parameter is interpolated geometrically between its two ends
+(``SIZE_RANGE``).  Larger cells: larger soma and dendrite, lower specific membrane resistance (so lower input
+resistance and higher rheobase: Henneman's size principle), a faster-decaying AHP calcium (shorter AHP), faster
+axons, a smaller dendritic PIC density (S cells are the most bistable: Lee & Heckman 1998 J Neurophysiol
+80:2468).  Ends chosen to give cat lumbar values: input resistance about 3 MOhm (S) to 0.7 MOhm (FF),
+rheobase rising with size (measured: tests/pool/test_motoneuron.py), AHP about 300 ms (S) to 90 ms (FF), conduction velocity 80 to 110 m/s (Zengel et al. 1985 J Physiol
+360:569; Burke 1981; Kernell 2006 "The Motoneurone and its Muscle Fibres").  Units: um, ohm cm2, S/cm2, ms, mV,
+m/s, mm.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields, replace
+from typing import Any
+
+from ..errors import InputError
+from ..validate import finite_number
+
+#: Motor-unit types in size order (slow, fast fatigue-resistant, fast fatigable).
+TYPES = ("S", "FR", "FF")
+
+#: Size-dependent parameters: (value at x = 0, the smallest S cell; value at x = 1, the largest FF cell).
+SIZE_RANGE: dict[str, tuple[float, float]] = {
+    "soma_diam_um": (50.0, 80.0),
+    "dend_length_um": (2200.0, 3200.0),
+    "dend_diam_um": (16.0, 28.0),
+    "rm_soma_ohm_cm2": (1500.0, 500.0),
+    "rm_dend_ohm_cm2": (9000.0, 5000.0),
+    "ca_decay_ms": (60.0, 18.0),
+    "conduction_m_per_s": (80.0, 110.0),
+    "g_cal_S_per_cm2": (4.2e-4, 1.0e-4),
+}
+
+
+@dataclass(frozen=True)
+class MotoneuronParameters:
+    """One motoneuron's parameters (units in the names; conductances in S/cm2).  ``size`` is the index in [0, 1]
+    they were made from (None if set by hand) and ``unit_type`` one of TYPES."""
+
+    soma_diam_um: float
+    dend_length_um: float
+    dend_diam_um: float
+    rm_soma_ohm_cm2: float
+    rm_dend_ohm_cm2: float
+    ca_decay_ms: float
+    conduction_m_per_s: float
+    g_cal_S_per_cm2: float
+    unit_type: str = "S"
+    size: float | None = None
+    axon_length_mm: float = 600.0
+    ra_ohm_cm: float = 70.0
+    cm_uF_per_cm2: float = 1.0
+    e_leak_mV: float = -70.0
+    ena_mV: float = 50.0
+    ek_mV: float = -80.0
+    g_naf_S_per_cm2: float = 0.6
+    g_kdr_S_per_cm2: float = 0.15
+    g_can_S_per_cm2: float = 0.01
+    g_kca_S_per_cm2: float = 0.003
+    ca_depth_um: float = 1.0
+    cal_vhalf_mV: float = -40.0
+    cal_slope_mV: float = 6.0
+    dend_nseg: int = 3
+
+    def __post_init__(self) -> None:
+        where = f"motoneuron ({self.unit_type})"
+        if self.unit_type not in TYPES:
+            raise InputError(f"{where}: unit_type must be one of {', '.join(TYPES)}, got {self.unit_type!r}")
+        for f in fields(self):
+            if f.name in ("unit_type", "size", "dend_nseg"):
+                continue
+            v = finite_number(f"{where}: {f.name}", getattr(self, f.name))
+            negative_ok = f.name.endswith("_mV")
+            zero_ok = f.name.startswith("g_")
+            if not negative_ok and (v < 0 or (v == 0 and not zero_ok)):
+                raise InputError(f"{where}: {f.name} must be {'>= 0' if zero_ok else '> 0'}, got {v!r}")
+        if not isinstance(self.dend_nseg, int) or isinstance(self.dend_nseg, bool) or self.dend_nseg < 1:
+            raise InputError(f"{where}: dend_nseg must be an integer >= 1, got {self.dend_nseg!r}")
+
+    @property
+    def axon_delay_ms(self) -> float:
+        """Conduction delay (ms) from the soma to the muscle: axon_length_mm / conduction_m_per_s."""
+        return self.axon_length_mm / self.conduction_m_per_s
+
+    def to_dict(self) -> dict[str, Any]:
+        """The parameters as a JSON-ready dict."""
+        return asdict(self)
+
+
+def unit_type_of(size: float, fractions: tuple[float, float, float] = (0.25, 0.25, 0.5)) -> str:
+    """The type (S, FR, FF) of the cell at size index ``size`` in a pool whose S, FR, FF fractions (summing to 1)
+    are ``fractions``, the smallest cells being S."""
+    s, fr, ff = fractions
+    if min(fractions) < 0 or abs(s + fr + ff - 1.0) > 1e-9:
+        raise InputError(f"type fractions (S, FR, FF) must be >= 0 and sum to 1, got {fractions}")
+    if size < s or (fr == 0 and ff == 0):
+        return "S"
+    return "FR" if size < s + fr or ff == 0 else "FF"
+
+
+def motoneuron_parameters(size: float, unit_type: str | None = None, **overrides: Any) -> MotoneuronParameters:
+    """Parameters of the cell at size index ``size`` in [0, 1] (0: smallest S, 1: largest FF), interpolated
+    geometrically over SIZE_RANGE; ``unit_type`` defaults to ``unit_type_of(size)``; ``overrides`` replace any
+    field (e.g. ``g_cal_S_per_cm2=0`` removes the PIC, ``axon_length_mm=900`` for a human leg)."""
+    x = finite_number("motoneuron size index", size)
+    if not 0.0 <= x <= 1.0:
+        raise InputError(f"motoneuron size index must lie in [0, 1], got {x}")
+    values = {k: lo * math.exp(x * math.log(hi / lo)) for k, (lo, hi) in SIZE_RANGE.items()}
+    p = MotoneuronParameters(**values, unit_type=unit_type or unit_type_of(x), size=x)
+    unknown = set(overrides) - {f.name for f in fields(MotoneuronParameters)}
+    if unknown:
+        raise InputError(f"unknown motoneuron parameter(s) {sorted(unknown)}")
+    return replace(p, **overrides) if overrides else p
+
+
+class Motoneuron:
+    """The cell in NEURON (soma + dendrite); ``destroy()`` or ``with`` removes it."""
+
+    def __init__(self, params: MotoneuronParameters, name: str = "mn") -> None:
+        from ..model.mechanisms import load_mechanisms
+
+        if not isinstance(params, MotoneuronParameters):
+            raise InputError(f"{name}: params must be MotoneuronParameters, got {type(params).__name__}")
+        load_mechanisms()
+        from neuron import h
+
+        self.params = params
+        self.name = name
+        p = params
+        self.soma = h.Section(name=f"{name}_soma")
+        self.dend = h.Section(name=f"{name}_dend")
+        self.dend.connect(self.soma(1.0))
+        self.soma.L = self.soma.diam = p.soma_diam_um
+        self.dend.L, self.dend.diam, self.dend.nseg = p.dend_length_um, p.dend_diam_um, p.dend_nseg
+        for sec, rm in ((self.soma, p.rm_soma_ohm_cm2), (self.dend, p.rm_dend_ohm_cm2)):
+            sec.Ra, sec.cm = p.ra_ohm_cm, p.cm_uF_per_cm2
+            sec.insert("pas")
+            for seg in sec:
+                seg.pas.g, seg.pas.e = 1.0 / rm, p.e_leak_mV
+        for mech in ("mn_naf", "mn_kdr", "mn_can", "mn_cadyn", "mn_kca"):
+            self.soma.insert(mech)
+        seg = self.soma(0.5)
+        seg.mn_naf.gbar, seg.mn_kdr.gbar = p.g_naf_S_per_cm2, p.g_kdr_S_per_cm2
+        seg.mn_can.gbar, seg.mn_kca.gbar = p.g_can_S_per_cm2, p.g_kca_S_per_cm2
+        seg.mn_cadyn.depth, seg.mn_cadyn.taur = p.ca_depth_um, p.ca_decay_ms
+        self.soma.ena, self.soma.ek = p.ena_mV, p.ek_mV
+        self.dend.insert("mn_cal")
+        for s in self.dend:
+            s.mn_cal.gbar, s.mn_cal.vhalf, s.mn_cal.slope = p.g_cal_S_per_cm2, p.cal_vhalf_mV, p.cal_slope_mV
+
+    @property
+    def axon_delay_ms(self) -> float:
+        """Conduction delay (ms) from the soma to the muscle unit."""
+        return self.params.axon_delay_ms
+
+    def spike_source(self) -> Any:
+        """The soma's membrane potential reference (a NetCon source; give ``section=self.soma``)."""
+        return self.soma(0.5)._ref_v
+
+    def input_resistance_MOhm(self) -> float:
+        """Input resistance at the soma (MOhm) with all active channels as at rest (NEURON's Impedance at 0 Hz,
+        after ``finitialize`` at the leak reversal)."""
+        from neuron import h
+
+        h.finitialize(self.params.e_leak_mV)
+        imp = h.Impedance()
+        imp.loc(0.5, sec=self.soma)
+        imp.compute(0, 1)
+        return float(imp.input(0.5, sec=self.soma))
+
+    def destroy(self) -> None:
+        """Remove the sections from NEURON (idempotent)."""
+        for attr in ("dend", "soma"):
+            if hasattr(self, attr):
+                delattr(self, attr)
+
+    def __enter__(self) -> "Motoneuron":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.destroy()

@@ -1,0 +1,243 @@
+"""A motor-unit pool in NEURON: one motoneuron and one muscle unit per gid, spikes by NetCon through
+ParallelContext (the motoneuron's soma is the gid's spike source; its muscle unit receives it after the axon
+delay), round-robin over MPI ranks.
+
+    pool = Pool(PoolDefinition(100, load_parameters("CT09")), length=-8.0)
+    pool.drive_current_ramp([0, 2000, 4000], [0, 20, 0])        # a common current (nA) at every soma
+    result = pool.run(4000.0)                                     # PoolResult: spikes, unit and pool force
+    pool.destroy()
+
+Drives: ``drive_current_ramp`` (a common current, nA, linear between the given times), ``drive_poisson``
+(independent Poisson synaptic input per motoneuron, excitatory conductance), ``drive_discharges`` (recorded
+discharge times delivered to the muscle units: no motoneurons are built).  Length: one MuscleLength per rank
+shared by its units (``per_unit_length=False``) or one per unit; a float (mm) or a LengthTrace.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..errors import InputError
+from ..model.unit import MuscleUnit
+from ..protocols.lengths import LengthTrace
+from ..sim import Simulator
+from ..validate import check_spike_times, finite_number, nonnegative_number, positive_number, seed_value
+from .definition import PoolDefinition, UnitSpec
+from .motoneuron import Motoneuron
+from .result import PoolResult
+
+#: NetCon threshold (mV) of the soma spike detector.
+SPIKE_THRESHOLD_MV = -10.0
+
+
+def parallel_context() -> Any:
+    """NEURON's ParallelContext (MPI if NEURON was started with it)."""
+    from neuron import h
+
+    return h.ParallelContext()
+
+
+class Pool:
+    """The pool's units owned by this rank (gid % nhost == rank); see the module docstring."""
+
+    def __init__(self, definition: PoolDefinition, *, length: LengthTrace | float = -8.0,
+                 per_unit_length: bool = False, motoneurons: bool = True) -> None:
+        from ..model.mechanisms import load_mechanisms
+
+        load_mechanisms()
+        from neuron import h
+
+        if not isinstance(definition, PoolDefinition):
+            raise InputError(f"definition must be a PoolDefinition, got {type(definition).__name__}")
+        pc = parallel_context()
+        self.rank, self.nhost = int(pc.id()), int(pc.nhost())
+        if self.nhost > definition.n_units:
+            raise InputError(f"pool {definition.name!r}: {self.nhost} MPI ranks for {definition.n_units} units; "
+                             "use at most one rank per unit")
+        if not isinstance(length, LengthTrace):
+            length = finite_number("pool length (mm)", length)
+        self.definition = definition
+        self.length = length
+        self.per_unit_length = bool(per_unit_length)
+        self.specs: list[UnitSpec] = [u for u in definition.units() if u.index % self.nhost == self.rank]
+        self._sec = h.Section(name=f"{definition.name}_muscle_r{self.rank}")
+        self._lengths: list[Any] = []
+        self.muscle: dict[int, MuscleUnit] = {}
+        self.cells: dict[int, Motoneuron] = {}
+        self._keep: list[Any] = []
+        self._drive: str | None = None
+        self._discharges: dict[int, np.ndarray] = {}
+        shared = None if self.per_unit_length else self._new_length(h)
+        pc.gid_clear()
+        for u in self.specs:
+            src = self._new_length(h) if self.per_unit_length else shared
+            self.muscle[u.index] = MuscleUnit(u.muscle, section=self._sec, length_source=src,
+                                              extensions=u.extensions or None, name=f"unit{u.index}")
+            pc.set_gid2node(u.index, self.rank)
+            if motoneurons:
+                cell = Motoneuron(u.motoneuron, name=f"mn{u.index}")
+                self.cells[u.index] = cell
+                det = h.NetCon(cell.spike_source(), None, sec=cell.soma)
+                det.threshold = SPIKE_THRESHOLD_MV
+                pc.cell(u.index, det)
+                for r in self.muscle[u.index].spike_receivers():
+                    nc = pc.gid_connect(u.index, r)
+                    nc.delay, nc.weight[0] = u.motoneuron.axon_delay_ms, 1.0
+                    self._keep.append(nc)
+                self._keep.append(det)
+        self._spike_t, self._spike_gid = h.Vector(), h.Vector()
+        if motoneurons:
+            pc.spike_record(-1, self._spike_t, self._spike_gid)
+
+    def _new_length(self, h: Any) -> Any:
+        ml = h.MuscleLength(self._sec(0.5))
+        if isinstance(self.length, LengthTrace):
+            tv, xv, vv = h.Vector(self.length.t_ms), h.Vector(self.length.xm_mm), h.Vector(self.length.velocity_mm_s)
+            xv.play(ml._ref_xm, tv, 1)
+            vv.play(ml._ref_vm, tv, 1)
+            self._keep.extend([tv, xv, vv])
+        else:
+            ml.xm = self.length
+        self._lengths.append(ml)
+        return ml
+
+    # -- drives --------------------------------------------------------------------------------------------
+    def _set_drive(self, kind: str) -> None:
+        if self._drive is not None:
+            raise InputError(f"pool {self.definition.name!r} already has the {self._drive} drive")
+        if kind != "discharges" and not self.cells:
+            raise InputError(f"pool {self.definition.name!r} was built without motoneurons: only recorded "
+                             "discharges can drive it")
+        self._drive = kind
+
+    def drive_current_ramp(self, times_ms: Sequence[float], amps_nA: Sequence[float]) -> None:
+        """Inject the same current (nA, linear between times_ms, ms) into every motoneuron's soma."""
+        from neuron import h
+
+        t = check_spike_times(times_ms, "current ramp times")
+        a = np.array([finite_number(f"current ramp amplitude {i}", x) for i, x in enumerate(amps_nA)])
+        if a.size != t.size or t.size < 2:
+            raise InputError(f"current ramp: {t.size} times and {a.size} amplitudes (need equal, >= 2)")
+        self._set_drive("current")
+        tv, av = h.Vector(t), h.Vector(a)
+        self._keep.extend([tv, av])
+        for cell in self.cells.values():
+            ic = h.IClamp(cell.soma(0.5))
+            ic.delay, ic.dur = 0.0, 1e9
+            av.play(ic._ref_amp, tv, 1)
+            self._keep.append(ic)
+
+    def drive_poisson(self, rate_hz: float, weight_uS: float, *, n_inputs: int = 1, tau_ms: float = 2.0,
+                      start_ms: float = 0.0, seed: int = 0) -> None:
+        """Independent Poisson excitation of every motoneuron: n_inputs trains of rate_hz (Hz) each on an
+        excitatory synapse (reversal 0 mV, decay tau_ms, peak conductance weight_uS, uS) at the soma, from
+        start_ms; the stream of unit i is seeded by (seed, i) (Random123), the same on any number of ranks."""
+        from neuron import h
+
+        positive_number("Poisson rate (Hz)", rate_hz)
+        nonnegative_number("synaptic weight (uS)", weight_uS)
+        positive_number("synaptic tau (ms)", tau_ms)
+        nonnegative_number("Poisson start (ms)", start_ms)
+        seed = seed_value(seed)
+        if isinstance(n_inputs, bool) or not isinstance(n_inputs, int) or n_inputs < 1:
+            raise InputError(f"n_inputs must be an integer >= 1, got {n_inputs!r}")
+        self._set_drive("poisson")
+        for gid, cell in self.cells.items():
+            syn = h.ExpSyn(cell.soma(0.5))
+            syn.tau, syn.e = tau_ms, 0.0
+            stim = h.NetStim()
+            stim.interval, stim.number, stim.start, stim.noise = 1000.0 / (rate_hz * n_inputs), 1e9, start_ms, 1
+            stim.noiseFromRandom123(seed, gid, 1)
+            nc = h.NetCon(stim, syn)
+            nc.delay, nc.weight[0] = 0.1, weight_uS
+            self._keep.extend([syn, stim, nc])
+
+    def drive_discharges(self, discharges_ms: Sequence[Sequence[float]], duration_ms: float) -> None:
+        """Deliver recorded discharge times (ms, one strictly increasing list per unit, within 0..duration_ms)
+        straight to the muscle units (they are the motoneurons' output: no axon delay is added)."""
+        positive_number("duration_ms", duration_ms)
+        if len(discharges_ms) != self.definition.n_units:
+            raise InputError(f"pool {self.definition.name!r}: {len(discharges_ms)} discharge trains for "
+                             f"{self.definition.n_units} units")
+        trains = [check_spike_times(d, f"discharges of unit {i}") for i, d in enumerate(discharges_ms)]
+        for i, d in enumerate(trains):
+            if d.size and d[-1] > duration_ms:
+                raise InputError(f"discharges of unit {i}: {d[-1]:g} ms lies beyond the run (0..{duration_ms:g} ms)")
+        self._set_drive("discharges")
+        for u in self.specs:
+            self._discharges[u.index] = trains[u.index]
+            self.muscle[u.index].add_spike_times(trains[u.index])
+
+    # -- running -------------------------------------------------------------------------------------------
+    def run(self, duration_ms: float, simulator: Simulator | None = None, record_dt_ms: float = 1.0) -> PoolResult:
+        """Run 0..duration_ms (ms) and gather spikes and forces from every rank (every rank gets the result).
+        Unit forces sampled every record_dt_ms (ms); the pool force is their sum (N)."""
+        from neuron import h
+
+        positive_number("duration_ms", duration_ms)
+        positive_number("record_dt_ms", record_dt_ms)
+        if self._drive is None:
+            raise InputError(f"pool {self.definition.name!r}: no drive (drive_current_ramp, drive_poisson or "
+                             "drive_discharges)")
+        if self._drive == "discharges":
+            last = max((d[-1] for d in self._discharges.values() if d.size), default=0.0)
+            if last > duration_ms:
+                raise InputError(f"discharges reach {last:g} ms, beyond the run of {duration_ms:g} ms")
+        sim = simulator or Simulator(method="fixed", dt_ms=0.025)
+        if sim.v_init_mV is None:
+            from dataclasses import replace
+
+            sim = replace(sim, v_init_mV=-70.0)
+        vecs = {gid: h.Vector() for gid in self.muscle}
+        for gid, v in vecs.items():
+            u = self.muscle[gid]
+            v.record(u[u.output_slot].obj, u.ref(u.output), record_dt_ms)
+        pc = parallel_context()
+        wall = sim.run(duration_ms, units=list(self.muscle.values()))
+        n = int(np.floor(duration_ms / record_dt_ms + 1e-9)) + 1
+        local_force = {gid: _fixed_length(np.array(v), n) for gid, v in vecs.items()}
+        if self._drive == "discharges":
+            local_spikes = {gid: self._discharges[gid] for gid in self.muscle}
+        else:
+            t, g = np.array(self._spike_t), np.array(self._spike_gid).astype(int)
+            local_spikes = {gid: np.sort(t[g == gid]) for gid in self.muscle}
+        gathered = pc.py_allgather((local_force, local_spikes, wall))
+        force: dict[int, np.ndarray] = {}
+        spikes: dict[int, np.ndarray] = {}
+        for f, s, _ in gathered:
+            force.update(f)
+            spikes.update(s)
+        walls = [w for _, _, w in gathered]
+        return PoolResult.from_gathered(self.definition, force, spikes, record_dt_ms, duration_ms, sim,
+                                        drive=self._drive, ranks=self.nhost, wall_s=max(walls),
+                                        length=self.length)
+
+    def destroy(self) -> None:
+        """Remove every NEURON object of the pool (idempotent)."""
+        pc = parallel_context()
+        self._keep.clear()
+        for u in self.muscle.values():
+            u.destroy()
+        for c in self.cells.values():
+            c.destroy()
+        self.muscle.clear()
+        self.cells.clear()
+        self._lengths.clear()
+        if hasattr(self, "_sec"):
+            del self._sec
+        pc.gid_clear()
+
+    def __enter__(self) -> "Pool":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.destroy()
+
+
+def _fixed_length(a: np.ndarray, n: int) -> np.ndarray:
+    """Interval recordings may stop one sample short of tstop: pad with the last value."""
+    if a.size >= n:
+        return a[:n]
+    return np.concatenate([a, np.full(n - a.size, a[-1] if a.size else 0.0)])
