@@ -9,11 +9,11 @@ Equations (units: k 1, tau_f ms, tau_h ms, t ms):
         H -> H + w F (1 - H)                      F as the previous spikes left it (F = exp(-ISI/tau_f) after one)
         F -> F + w (1 - F)
     gain = 1 + k H                                drives KimCa's release_gain port: R = gain [CaSR] Rmax (S2 - S12)
-A single spike (or any spike after a long interval) finds F = 0 and leaves H, hence the twitch, unchanged: only
+A single spike finds F = 0 and leaves H, hence the twitch, exactly unchanged (after a long interval F ~ 0): only
 short intervals potentiate, by a factor that falls off as exp(-ISI/tau_f); H and F stay in [0, 1), gain in
 [1, 1 + k).  With k = 0 (its neutral value) gain is exactly 1: the unit is bit-identical to the baseline.
-Bounds (neuromuscle/model/extensions/doublet_potentiation.py): k in [0, 3], tau_f in [2, 30] ms, tau_h in
-[5, 100] ms.
+Bounds (neuromuscle/model/extensions/doublet_potentiation.py): k in [0, 4], tau_f in [2, 30] ms, tau_h in
+[5, 500] ms.
 Coupling: receives the unit's spikes (NET_RECEIVE); exposes RANGE gain (1) for POINTER KimCa.release_gain.  A
 spike reaching KimCa and this mechanism at the same t: KimCa reads gain only in its next state update, after
 both events are delivered, so the order of delivery does not matter.
