@@ -13,6 +13,7 @@ import numpy as np
 
 from ..component import Param, State
 from . import Extension
+from .spike_trace import SpikeTrace
 
 _SRC = "fatigue bounds: per-spike depletion up to 0.2; recovery 0.1 s to 10 min (mammalian fibres)"
 
@@ -35,17 +36,5 @@ class Fatigue(Extension):
     @staticmethod
     def reference_modulation(values: Mapping[str, float], spikes_ms: np.ndarray) -> dict[str, Callable]:
         """The same equations solved in closed form for the SciPy reference: {"release_gain": gain(t_ms)}."""
-        k, tau = float(values["k"]), float(values["tau_rec"])
-        spikes = np.asarray(spikes_ms, dtype=float)
-        after = np.empty(spikes.size)  # D just after each spike
-        d, last = 0.0, 0.0
-        for i, ts in enumerate(spikes):
-            d *= np.exp(-(ts - last) / tau)
-            d += k * (1.0 - d)
-            after[i], last = d, ts
-
-        def gain(t: float) -> float:
-            i = int(np.searchsorted(spikes, t, side="right")) - 1
-            return 1.0 if i < 0 else 1.0 - after[i] * float(np.exp(-(t - spikes[i]) / tau))
-
-        return {"release_gain": gain}
+        depletion = SpikeTrace(spikes_ms, float(values["k"]), float(values["tau_rec"]))
+        return {"release_gain": lambda t: 1.0 - depletion(t)}
