@@ -3,9 +3,9 @@
 Each preparation is CT09 with C1, C2, C3, alpha, P0 and g2 moved by up to +/-12 % (drawn from the seed), trials
 simulated by ``neuromuscle.fit.synthetic_trial`` with eq 18 and eqs 19-20 off, plus AR(1) noise of sd
 ``noise_pct`` % of each trial's range (lag-1 correlation 0.6 at 1 kHz).  The hidden fatigue-like effect is NOT the
-catalogue's ``fatigue`` equations: the *force* (not the Ca2+ release) is scaled by
-1 - strength (1 - exp(-N(t) / 80)), N(t) the number of stimuli delivered so far, smoothed over 30 ms, with no
-recovery.
+catalogue's ``fatigue`` equations (a depletion state raised by each spike and recovering with tau_rec): the n-th
+stimulus of a trial releases with NetCon weight 1 - strength (1 - exp(-(n - 1) / 40)) -- a saturating function of
+the stimulus count, with no recovery and no state.
 """
 
 from __future__ import annotations
@@ -65,12 +65,28 @@ def protocols(g1: float, standard: bool) -> list[tuple[str, str, float, np.ndarr
     return out
 
 
-def hidden_fatigue_factor(time_s: np.ndarray, stimuli_s: np.ndarray, strength: float) -> np.ndarray:
-    """1 - strength (1 - exp(-N(t)/80)), N(t) the stimuli delivered by t, smoothed by a 30 ms first-order lag."""
-    n = np.searchsorted(np.asarray(stimuli_s), time_s, side="right").astype(float)
-    a = np.exp(-SAMPLE_S / 0.03)
-    n_smooth = lfilter([1 - a], [1, -a], n)
-    return 1.0 - strength * (1.0 - np.exp(-n_smooth / 80.0))
+def weighted_force(params, trial: Trial, strength: float) -> np.ndarray:
+    """The trial's force (N) when the n-th stimulus releases with weight 1 - strength (1 - exp(-(n - 1) / 40))."""
+    from neuromuscle.model import MuscleUnit, kim_excitation
+    from neuromuscle.sim import Simulator
+    from neuron import h
+
+    spikes_ms = SETTLE_MS + 1000.0 * np.asarray(trial.stimulus_times_s)
+    weights = 1.0 - strength * (1.0 - np.exp(-np.arange(spikes_ms.size) / 40.0))
+    unit = MuscleUnit(params, excitation=kim_excitation(False, False))
+    try:
+        unit.length.xm = float(trial.length_const)
+        receiver = unit.spike_receivers()[0]
+        ncs = [h.NetCon(None, receiver) for _ in spikes_ms]
+        for nc, w in zip(ncs, weights):
+            nc.weight[0] = float(w)
+        fih = h.FInitializeHandler(1, lambda: [nc.event(float(t)) for nc, t in zip(ncs, spikes_ms)])
+        rec_t, rec_f = h.Vector().record(h._ref_t), h.Vector().record(unit.ref("force.F"))
+        Simulator(method="fixed", dt_ms=DT_MS).run(SETTLE_MS + 1000.0 * trial.duration_s + 1.0, units=[unit])
+        del fih
+        return np.interp(SETTLE_MS + 1000.0 * (trial.time_s - trial.time_s[0]), np.array(rec_t), np.array(rec_f))
+    finally:
+        unit.destroy()
 
 
 def ar1_noise(rng: np.random.Generator, n: int, sd: float) -> np.ndarray:
@@ -89,7 +105,7 @@ def make_data(seed: int = 0, *, fatigue: float = 0.0, noise_pct: float = 1.5, st
         t = np.arange(round(dur / SAMPLE_S)) * SAMPLE_S
         tr = synthetic_trial(params, tid, t, stims, protocol=proto, length_mm=x, dt_ms=DT_MS, record_dt_ms=0.5,
                              settle_ms=SETTLE_MS, length_compensation=False)
-        clean = tr.force * (hidden_fatigue_factor(t, stims, fatigue) if fatigue else 1.0)
+        clean = weighted_force(params, tr, fatigue) if fatigue else tr.force
         tr.force = clean + ar1_noise(rng, t.size, noise_pct / 100.0 * float(np.ptp(clean)))
         trials[tid] = tr
     return MeasuredData(trials=trials, attrs={"species": "cat", "muscle": "soleus (synthetic, tests)",

@@ -1,5 +1,5 @@
-"""Blind diagnoses: a null preparation with one calibration misfit -> "none"; a hidden fatigue-like effect (a force
-form, not the extension's release depletion) -> "fatigue" with a positive held-out gain."""
+"""Blind diagnoses: a null preparation with one calibration misfit -> "none"; a hidden fatigue-like effect (release
+weights by stimulus count, not the extension's depletion state) -> "fatigue" with a positive held-out gain."""
 
 import json
 
@@ -19,7 +19,7 @@ def test_hidden_fatigue_is_found_with_heldout_gain(fatigue_files):
     best = doc["causes"][0]
     assert best["name"] == "fatigue" and best["statistics"]["passed"]
     assert best["nrmse_heldout_after"] < best["nrmse_heldout_before"]
-    assert best["statistics"]["gain_sse_N2"] > 0 and best["statistics"]["chi2_gain"] > best["statistics"]["bic_penalty"]
+    assert best["statistics"]["gain_noise_units"] > 0 and best["statistics"]["chi2_gain"] > best["statistics"]["bic_penalty"]
     k = best["parameters"]["fatigue.k"]
     assert k["ci95"][0] > k["neutral"]
     params = load_parameters(out / "params.json")
