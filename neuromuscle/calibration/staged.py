@@ -65,9 +65,11 @@ def _points_from(data: MeasuredData, path: str) -> np.ndarray | None:
 
 def staged_calibration(data: MeasuredData, base_params: ParameterSet, *, module2_free: Sequence[str] = MODULE2_FREE,
                        options: SimulationOptions | None = None, workers: int = 1, max_iterations: int = 30,
-                       progress: bool = False, name: str | None = None) -> StagedCalibration:
+                       progress: bool = False, name: str | None = None,
+                       length_compensation: bool = True) -> StagedCalibration:
     """Module 3 (force-length, force-velocity, KSE) -> Module 2 -> length compensation, on whatever ``data``
-    holds; a stage without its data is skipped with the reason (the base values stay)."""
+    holds; a stage without its data is skipped with the reason (the base values stay).  length_compensation=False
+    skips the eq 18 stage (a model without eq 18, e.g. the diagnosis baseline)."""
     params = base_params
     stages: list[StageResult] = []
     fl = _points_from(data, FORCE_LENGTH_PATH)
@@ -105,7 +107,9 @@ def staged_calibration(data: MeasuredData, base_params: ParameterSet, *, module2
         stages.append(r)
     tw = twitch_trials(data)
     n_len = len({round(isometric_length(t), 9) for t in tw})
-    if n_len < 2:
+    if not length_compensation:
+        stages.append(StageResult("length-compensation", skipped="eq 18 switched off"))
+    elif n_len < 2:
         stages.append(StageResult("length-compensation", skipped=f"twitches at {n_len} length(s); >= 2 needed"))
     else:
         r = calibrate_length_compensation(data, params, [t.trial_id for t in tw], options=options)

@@ -1,4 +1,4 @@
-"""``neuromuscle bench unit | fit | intervals | sweep``: benchmarks; each default run takes about two minutes, ``--full``
+"""``neuromuscle bench unit | fit | diagnose | intervals | sweep``: benchmarks; each default run takes about two minutes, ``--full``
 longer."""
 
 from __future__ import annotations
@@ -24,6 +24,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bf.add_argument("--params", default="CT09")
     bf.add_argument("--json", action="store_true")
     bf.set_defaults(func=run)
+    bd = bsub.add_parser("diagnose", help="wall time of one full diagnosis of the standard 25-trial synthetic file "
+                                          "and of its baseline calibration alone")
+    bd.add_argument("--workers", type=int, default=2)
+    bd.add_argument("--json", action="store_true")
+    bd.set_defaults(func=run_diagnose)
     bi = bsub.add_parser("intervals", help="coverage of the fit's 95 %% intervals on SciPy reference data with "
                                            "AR(1) noise, every interval method on the same draws")
     bi.add_argument("--params", default="CT09", help="base set: the fits start from it; the truth is it with the "
@@ -62,6 +67,15 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bs.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     bs.add_argument("--json", action="store_true")
     bs.set_defaults(func=run_sweep)
+
+
+def run_diagnose(args: argparse.Namespace) -> int:
+    from ..bench.diagnose import bench_diagnose
+
+    if args.workers < 1:
+        raise InputError(f"--workers must be >= 1, got {args.workers}")
+    _print(bench_diagnose(args.workers), args.json)
+    return 0
 
 
 def run_sweep(args: argparse.Namespace) -> int:

@@ -36,13 +36,16 @@ MapFn = Callable[[Callable[[Any], Any], Iterable[Any]], Iterable[Any]]
 @dataclass(frozen=True)
 class SimulationOptions:
     """How each trial is simulated: fixed step dt_ms (ms), recording interval record_dt_ms (ms; None = dt_ms),
-    settling time settle_ms (ms) before the trial's first sample, and the model's eq 18 / eqs 19-20 switches."""
+    settling time settle_ms (ms) before the trial's first sample, the model's eq 18 / eqs 19-20 switches, and the
+    catalogue extensions switched on (canonical names; their values come from the parameter set by qualified name,
+    e.g. ``fatigue.k``, else their defaults)."""
 
     dt_ms: float = 0.05
     record_dt_ms: float | None = None
     settle_ms: float = 500.0
     length_compensation: bool = True
     movement_compensation: bool = False
+    extensions: tuple[str, ...] = ()
 
 
 def check_trial_units(trial: Trial) -> None:
@@ -55,11 +58,13 @@ def check_trial_units(trial: Trial) -> None:
 
 def trial_simulation(params: ParameterSet, trial: Trial, dt_ms: float = 0.05, *,
                      record_dt_ms: float | None = None, settle_ms: float = 500.0,
-                     length_compensation: bool = True, movement_compensation: bool = False) -> np.ndarray:
+                     length_compensation: bool = True, movement_compensation: bool = False,
+                     extensions: tuple[str, ...] = ()) -> np.ndarray:
     """Simulated force (N) of a measured trial at the trial's own time points (``trial.time_s``, s).
 
     The trial's time_s[0] is placed at settle_ms (ms) of simulated time; the length (constant or played) is
     held at its first value before that.  Stimulus times (s) are converted to ms on the same clock.
+    extensions: canonical names of catalogue extensions to switch on, valued from ``params``.
     """
     check_trial_units(trial)
     if not np.isfinite(settle_ms) or settle_ms < 0:
@@ -79,7 +84,8 @@ def trial_simulation(params: ParameterSet, trial: Trial, dt_ms: float = 0.05, *,
         length = float(x[0]) if np.all(x == x[0]) else LengthTrace(lt, lx, name=f"trial {trial.trial_id}")
     rec = dt_ms if record_dt_ms is None else record_dt_ms
     res = simulate(params, spikes_ms, length, duration_ms, dt_ms=dt_ms, record_dt_ms=rec, record=("force.F",),
-                   excitation=kim_excitation(length_compensation, movement_compensation))
+                   excitation=kim_excitation(length_compensation, movement_compensation),
+                   extensions={name: {} for name in extensions} or None)
     return np.interp(t_ms, res.t_ms, res.force_N)
 
 

@@ -1,0 +1,167 @@
+"""Step 1-2 of the diagnosis: the baseline model calibrated on the calibration trials, and every trial's error.
+
+The baseline is Modules 1-3 with eq 18 and eqs 19-20 switched off (the length and movement extensions are
+candidates, not baseline).  Calibration (``calibrate_baseline``), reusing :mod:`neuromuscle.calibration`, uses the
+calibration trials of the seed's kind: isometric twitches and short trains (stimuli spanning at most
+``MAX_TRAIN_S`` = 0.5 s); longer trains and moving trials calibrate only the candidate extensions (so a slow
+effect, e.g. fatigue, does not bend the baseline):
+
+1. the seed's staged calibration (Module 3 from force-length / force-velocity points and a step when the file
+   has them; Module 2 (C1, C2, C3, alpha) on isometric trials at the optimum; the eq 18 stage off).  When no
+   trial lies at g1, Module 2 uses the isometric length with the most stimulated calibration trials;
+2. a refinement of what the isometric calibration trials identify jointly: P0 (with >= 1 length), g2 (>= 2
+   lengths), g1 (>= 3 lengths) unless force-length points calibrated them, with C1, C2, C3, alpha (a preparation's
+   parameters differ from CT09 by tens of percent in every module).
+
+Simulation: fixed step ``DT_MS`` = 0.1 ms (twitch peak error 0.27 % against SciPy, README; well below the 1-2 %
+noise of measured force), recorded every 0.5 ms, 300 ms settling.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass, replace
+from typing import Sequence
+
+import numpy as np
+
+from ..analysis.metrics import nrmse_percent
+from ..calibration import MODULE2_FREE, StageResult, calibrate_module2, staged_calibration
+from ..calibration.staged import FORCE_LENGTH_PATH
+from ..calibration.trials import isometric_length
+from ..errors import InputError
+from ..fit import FitProblem, SimulationOptions, fit, trial_simulation
+from ..measured import MeasuredData, Trial
+from ..parameters import SPECS, ParameterSet
+
+DT_MS = 0.1
+OPTIONS = SimulationOptions(dt_ms=DT_MS, record_dt_ms=0.5, settle_ms=300.0, length_compensation=False,
+                            movement_compensation=False)
+#: Longest stimulus train (s) used to calibrate the baseline.
+MAX_TRAIN_S = 0.5
+#: Fewest calibration and held-out trials a diagnosis accepts.
+MIN_CALIBRATION, MIN_HELDOUT = 4, 2
+
+
+@dataclass
+class Baseline:
+    """The calibrated baseline: parameters, the stages that made them, each trial's simulated force (N) and NRMSE
+    (%, eq 17), and the simulation options."""
+
+    parameters: ParameterSet
+    stages: list[StageResult]
+    simulated: dict[str, np.ndarray]
+    nrmse: dict[str, float]
+    options: SimulationOptions
+
+
+def check_trials(data: MeasuredData) -> None:
+    """Refuse data a diagnosis cannot use, naming the trials: force not in N or length not in mm, a force too large
+    to be in N (beyond 10 x the largest admissible P0: mN or g written as N), no stimulus times."""
+    where = data.path or "the data"
+    wrong = [f"'{t.trial_id}' ({t.force_unit}, {t.length_unit})" for t in data.trials.values()
+             if t.force_unit != "N" or t.length_unit != "mm"]
+    if wrong:
+        raise InputError(f"{where}: trial(s) {', '.join(wrong)}: the muscle model needs force in N and length in mm; "
+                         "convert joint moments and angles first")
+    limit = 10.0 * SPECS["P0"].upper
+    big = [f"'{t.trial_id}' (peak {np.max(np.abs(t.force)):.4g})" for t in data.trials.values()
+           if np.max(np.abs(t.force)) > limit]
+    if big:
+        raise InputError(f"{where}: force of trial(s) {', '.join(big)} exceeds {limit:g} N (10 x the largest "
+                         "admissible P0): the force channel is not in N (mN? g?); convert it to N")
+    silent = [t.trial_id for t in data.trials.values() if np.size(t.stimulus_times_s) == 0]
+    if silent:
+        raise InputError(f"{where}: trial(s) {silent} have no stimulus times: the diagnosis compares stimulated "
+                         "responses; remove passive trials (or add their stimulus times)")
+
+
+def check_split_sizes(calibration: Sequence[str], heldout: Sequence[str]) -> None:
+    """InputError when there are too few trials to calibrate or to judge."""
+    if len(calibration) < MIN_CALIBRATION or len(heldout) < MIN_HELDOUT:
+        raise InputError(f"too few trials: {len(calibration)} to calibrate and {len(heldout)} held out; a diagnosis "
+                         f"needs at least {MIN_CALIBRATION} and {MIN_HELDOUT} (at least "
+                         f"{MIN_CALIBRATION + MIN_HELDOUT} stimulated trials in N and mm)")
+
+
+def _subset(data: MeasuredData, ids: Sequence[str]) -> MeasuredData:
+    return MeasuredData(trials={i: data.trials[i] for i in ids}, attrs=data.attrs, path=data.path,
+                        extra_datasets=data.extra_datasets, extra_attrs=data.extra_attrs)
+
+
+def _seed_kind(t: Trial) -> bool:
+    """An isometric trial whose stimuli span at most MAX_TRAIN_S (a twitch or a sub-tetanic train)."""
+    s = np.asarray(t.stimulus_times_s, dtype=float)
+    return isometric_length(t) is not None and s.size >= 1 and float(s.max() - s.min()) <= MAX_TRAIN_S
+
+
+def _isometric(trials: Sequence[Trial]) -> dict[float, list[Trial]]:
+    out: dict[float, list[Trial]] = {}
+    for t in trials:
+        x = isometric_length(t)
+        if x is not None:
+            out.setdefault(round(x, 6), []).append(t)
+    return out
+
+
+def _say(progress: bool, text: str) -> None:
+    if progress:
+        print(f"[diagnose] {text}", file=sys.stderr, flush=True)
+
+
+def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: ParameterSet, *, workers: int = 1,
+                       options: SimulationOptions = OPTIONS, progress: bool = False,
+                       max_iterations: int = 12) -> Baseline:
+    """Calibrate the baseline on the ``calibration`` trials (module docstring) and simulate every trial of
+    ``data``."""
+    cal = _subset(data, [i for i in calibration if _seed_kind(data.trials[i])])
+    if not cal.trials:
+        raise InputError(f"no calibration trial is an isometric twitch or a train of <= {MAX_TRAIN_S} s: the "
+                         "baseline (Module 2) cannot be calibrated")
+    calibration = list(cal.trials)
+    _say(progress, f"baseline: staged calibration on {len(calibration)} trials")
+    staged = staged_calibration(cal, base, options=options, workers=workers, max_iterations=max_iterations,
+                                progress=False, name=f"{base.name}-baseline", length_compensation=False)
+    params, stages = staged.parameters, list(staged.stages)
+    by_length = _isometric(list(cal.trials.values()))
+    if not by_length:
+        raise InputError("no isometric stimulated calibration trial: Module 2 cannot be calibrated")
+    m2 = next(s for s in stages if s.stage == "module2")
+    if m2.skipped:
+        x_ref = max(by_length, key=lambda x: (len(by_length[x]), -abs(x - params["g1"])))
+        ids = [t.trial_id for t in by_length[x_ref]]
+        _say(progress, f"baseline: Module 2 at {x_ref:g} mm (no trial at g1 = {params['g1']:g} mm)")
+        r = calibrate_module2(cal, params, ids, options=options, workers=workers, max_iterations=max_iterations)
+        r.notes.append(f"no trial at g1: the isometric length with most trials ({x_ref:g} mm) stands for it")
+        stages[stages.index(m2)] = r
+        params = params.with_values(**r.values)
+    free = list(MODULE2_FREE)
+    if FORCE_LENGTH_PATH not in data.extra_datasets:
+        n_len = len(by_length)
+        free = ["P0"] + (["g2"] if n_len >= 2 else []) + (["g1"] if n_len >= 3 else []) + free
+    trials = [t for ts in by_length.values() for t in ts]
+    _say(progress, f"baseline: joint refinement of {', '.join(free)} on {len(trials)} isometric trials")
+    res = fit(FitProblem(trials, params, free, objective="nrmse", options=options), workers=workers,
+              progress=False, max_iterations=max_iterations, fd="forward")
+    params = params.with_values(**res.estimates)
+    stages.append(StageResult("refinement", dict(res.estimates),
+                              {f"nrmse_{k}": v for k, v in res.nrmse_percent.items()}, [t.trial_id for t in trials],
+                              [f"{res.n_iterations} iterations, {res.n_simulations} simulations: {res.message}"],
+                              fit=res))
+    final = ParameterSet(f"{base.name}-baseline", params.values,
+                         f"diagnosis baseline (eq 18, eqs 19-20 off) calibrated from {base.name} on "
+                         f"{', '.join(calibration)}")
+    _say(progress, f"baseline: simulating {len(data.trials)} trials")
+    sims = simulate_all(final, list(data.trials.values()), options)
+    return Baseline(final, stages, sims, {k: nrmse_percent(data.trials[k].force, s) for k, s in sims.items()},
+                    options)
+
+
+def simulate_all(params: ParameterSet, trials: Sequence[Trial], options: SimulationOptions,
+                 extensions: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
+    """Simulated force (N) of every trial, by trial id."""
+    opts = replace(options, extensions=extensions)
+    return {t.trial_id: trial_simulation(params, t, opts.dt_ms, record_dt_ms=opts.record_dt_ms,
+                                         settle_ms=opts.settle_ms, length_compensation=opts.length_compensation,
+                                         movement_compensation=opts.movement_compensation,
+                                         extensions=opts.extensions) for t in trials}

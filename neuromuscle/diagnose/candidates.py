@@ -1,0 +1,150 @@
+"""Step 3 (ranking) of the diagnosis: the canonical causes, which trials can show each, and their order.
+
+``CAUSES`` holds, for every canonical name of shared/spec/diagnosis.md, the kind of trial that would show the
+cause (``telling``: a test on a trial's :class:`TrialFeatures`) and the explanatory variable its residual should
+follow.  A cause is *untestable* when no calibration trial or no held-out trial is of its telling kind (it can be
+neither fitted nor judged); it is listed as such, never guessed.  Testable causes are ranked by the structure of
+the baseline residual on their telling trials: score = (share of all trials' excess squared error above noise that
+sits on the telling trials) x (eta^2 of the pooled residual of those trials against the cause's variable).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Mapping, Sequence
+
+import numpy as np
+
+from ..measured import Trial
+from .residuals import MOVING_MM_S, Noise, correlation_ratio
+
+
+@dataclass(frozen=True)
+class TrialFeatures:
+    """What kind of trial it is: stimuli, rates (Hz), shortest ISI (ms), train duration (s), length (mm, mean) and
+    its offset from the optimum g1, movement, lengthening below the optimum, a hold after a stretch / shortening
+    while stimulated, and a second burst after a pause (activity history inside the trial)."""
+
+    n_stimuli: int
+    mean_rate_hz: float
+    min_isi_ms: float
+    max_isi_ms: float
+    train_s: float
+    length_offset_mm: float
+    moving: bool
+    lengthening_below_optimum: bool
+    hold_after_stretch: bool
+    hold_after_shortening: bool
+    burst_after_pause: bool
+
+
+def trial_features(trial: Trial, g1_mm: float) -> TrialFeatures:
+    """The :class:`TrialFeatures` of a trial, given the optimum g1 (mm)."""
+    stim = np.sort(np.asarray(trial.stimulus_times_s, dtype=float))
+    isi = np.diff(stim) * 1000.0
+    t = np.asarray(trial.time_s, dtype=float)
+    x = trial.length_at()
+    v = np.gradient(x, t) if x.size > 1 else np.zeros_like(x)
+    moving = np.abs(v) > MOVING_MM_S
+    active = np.zeros(t.size, bool)
+    if stim.size:
+        active = (t >= stim[0]) & (t <= stim[-1] + 0.05)
+    def hold_after(sign: int) -> bool:
+        idx = np.flatnonzero(moving & (np.sign(v) == sign))
+        if idx.size == 0:
+            return False
+        after = (np.arange(t.size) > idx[-1]) & ~moving & active
+        return int(after.sum()) * (t[1] - t[0] if t.size > 1 else 0.0) >= 0.05
+    return TrialFeatures(
+        n_stimuli=int(stim.size),
+        mean_rate_hz=float((stim.size - 1) / (stim[-1] - stim[0])) if stim.size > 1 and stim[-1] > stim[0] else 0.0,
+        min_isi_ms=float(isi.min()) if isi.size else np.inf, max_isi_ms=float(isi.max()) if isi.size else 0.0,
+        train_s=float(stim[-1] - stim[0]) if stim.size > 1 else 0.0,
+        length_offset_mm=float(np.mean(x) - g1_mm), moving=bool(np.any(moving)),
+        lengthening_below_optimum=bool(np.any(moving & (v > 0) & (x < g1_mm) & active)),
+        hold_after_stretch=hold_after(1), hold_after_shortening=hold_after(-1),
+        burst_after_pause=bool(isi.size >= 5 and isi.max() >= 200.0 and np.sum(isi < 200.0) >= 4))
+
+
+@dataclass(frozen=True)
+class Cause:
+    """A canonical cause: what the data show, the telling trial kind (text and test), the variable to follow."""
+
+    name: str
+    shows: str
+    telling_text: str
+    telling: Callable[[TrialFeatures], bool]
+    variable: str
+
+
+CAUSES: tuple[Cause, ...] = (
+    Cause("length_dependent_activation", "low-rate force falls off away from the optimum more than g(Xm) allows",
+          "isometric twitches or trains <= 20 Hz more than 2 mm from the optimum",
+          lambda f: not f.moving and f.mean_rate_hz <= 20.0 and abs(f.length_offset_mm) > 2.0, "length"),
+    Cause("movement_induced_depression", "force sinks progressively during movement at low rates",
+          "stimulated trials with movement at <= 20 Hz",
+          lambda f: f.moving and 0 < f.mean_rate_hz <= 20.0, "time_since_movement_onset"),
+    Cause("lengthening_below_optimum", "excess model force while lengthening below the optimum",
+          "stimulated lengthening below the optimum", lambda f: f.lengthening_below_optimum, "velocity"),
+    Cause("staircase", "twitch amplitude changes over successive stimuli at low rates",
+          "trains of >= 5 stimuli at <= 15 Hz", lambda f: f.n_stimuli >= 5 and 0 < f.mean_rate_hz <= 15.0,
+          "position_in_train"),
+    Cause("doublet_potentiation", "extra force after short inter-spike intervals (5-15 ms)",
+          "trains with an ISI <= 15 ms among longer ones (doublets, random trains)",
+          lambda f: f.min_isi_ms <= 15.0 and f.max_isi_ms >= 2.0 * f.min_isi_ms, "isi"),
+    Cause("post_activation_potentiation", "after activity, twitches grow and relaxation slows",
+          "stimuli after a pause that follows a burst of activity", lambda f: f.burst_after_pause,
+          "recent_activity"),
+    Cause("relaxation_rate", "the model relaxes slower or faster than the data",
+          "any trial with a relaxation after its last stimulus", lambda f: f.n_stimuli >= 1,
+          "time_since_last_stimulus"),
+    Cause("force_enhancement_after_stretch", "force after an active stretch stays above the isometric force",
+          "an isometric hold after an active stretch", lambda f: f.hold_after_stretch, "stretch_history"),
+    Cause("force_depression_after_shortening", "force after active shortening stays below the isometric force",
+          "an isometric hold after active shortening", lambda f: f.hold_after_shortening, "stretch_history"),
+    Cause("fatigue", "force declines over long high-rate trains",
+          "trains of >= 1 s at >= 30 Hz", lambda f: f.train_s >= 1.0 and f.mean_rate_hz >= 30.0,
+          "recent_activity"),
+)
+
+
+@dataclass
+class Candidate:
+    """A cause's standing before its extension is fitted: telling trials on each side, score, why untestable."""
+
+    cause: Cause
+    telling_calibration: list[str]
+    telling_heldout: list[str]
+    score: float
+    eta2: float
+    excess_share: float
+    untestable: str | None = None
+
+
+def rank_candidates(trials: Mapping[str, Trial], g1_mm: float, calibration: Sequence[str], heldout: Sequence[str],
+                    residuals: Mapping[str, np.ndarray], noise: Mapping[str, Noise],
+                    variables: Mapping[str, Mapping[str, np.ndarray]]) -> list[Candidate]:
+    """Every cause of ``CAUSES`` with its telling trials and score, testable ones first by score (module
+    docstring); residuals in N, noise per trial."""
+    feats = {i: trial_features(t, g1_mm) for i, t in trials.items()}
+    excess = {i: max(float(residuals[i] @ residuals[i]) - residuals[i].size * noise[i].sd_N ** 2, 0.0)
+              / max(float(np.ptp(trials[i].force)), 1e-12) ** 2 for i in residuals}
+    total = sum(excess.values()) or 1.0
+    out = []
+    for c in CAUSES:
+        cal = [i for i in calibration if c.telling(feats[i])]
+        held = [i for i in heldout if c.telling(feats[i])]
+        why = None
+        if not cal and not held:
+            why = f"no trial of the telling kind ({c.telling_text})"
+        elif not cal or not held:
+            side = "calibration" if not cal else "held-out"
+            why = f"no {side} trial of the telling kind ({c.telling_text}); give --split to put one there"
+        ids = cal + held
+        share = sum(excess[i] for i in ids) / total
+        eta = 0.0
+        if ids:
+            r = np.concatenate([residuals[i] / max(float(np.ptp(trials[i].force)), 1e-12) for i in ids])
+            eta = correlation_ratio(np.concatenate([variables[i][c.variable] for i in ids]), r)
+        out.append(Candidate(c, cal, held, share * eta, eta, share, why))
+    return sorted(out, key=lambda c: (c.untestable is not None, -c.score))

@@ -1,0 +1,107 @@
+"""The diagnosis of a measured-data file, steps 1-5 of shared/spec/diagnosis.md, without writing anything.
+
+    result = diagnose_data(read_measured("prep.h5"), workers=2)
+    result.verdict                     # a canonical cause, "none" or "unexplained"
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from ..measured import MeasuredData
+from ..parameters import ParameterSet, load_parameters
+from .baseline import Baseline, calibrate_baseline, check_split_sizes, check_trials
+from .candidates import Candidate, rank_candidates
+from .extension_fit import ExtensionFit, available, fit_extension
+from .residuals import Noise, Structure, explanatory_variables, noise_level, residual_structure
+from .split import Split, automatic_split, given_split
+from .verdict import Evidence, is_unexplained, judge, structured_trials
+
+#: Testable candidates with an extension in the catalogue whose extension is fitted, best ranked first.
+MAX_FITS = 4
+
+
+@dataclass
+class Diagnosis:
+    """Everything the report needs: the split, baseline, noise, residual structure, candidates (ranked), the
+    fitted extensions and their evidence, the verdict, the trials still structured after it, wall time (s)."""
+
+    data: MeasuredData
+    split: Split
+    baseline: Baseline
+    noise: dict[str, Noise]
+    structure: Structure
+    candidates: list[Candidate]
+    fits: dict[str, ExtensionFit]
+    evidence: dict[str, Evidence]
+    verdict: str
+    structured_after: list[str]
+    structure_after: Structure
+    wall_time_s: float
+    variables: dict[str, dict[str, np.ndarray]] = field(repr=False, default_factory=dict)
+
+    @property
+    def final_simulated(self) -> dict[str, np.ndarray]:
+        """Every trial's force (N) under the verdict's model (the baseline unless a cause is named)."""
+        return self.fits[self.verdict].simulated if self.verdict in self.fits else self.baseline.simulated
+
+
+def _say(progress: bool, text: str) -> None:
+    if progress:
+        print(f"[diagnose] {text}", file=sys.stderr, flush=True)
+
+
+def prepare(data: MeasuredData, heldout: Sequence[str] | None = None) -> Split:
+    """Refuse unusable data and an unusable split before any work (bad input: nothing is computed)."""
+    check_trials(data)
+    split = automatic_split(data) if heldout is None else given_split(data, heldout)
+    check_split_sizes(split.calibration, split.heldout)
+    return split
+
+
+def diagnose_data(data: MeasuredData, *, heldout: Sequence[str] | None = None, base: ParameterSet | None = None,
+                  workers: int = 1, max_fits: int = MAX_FITS, progress: bool = False) -> Diagnosis:
+    """Steps 1-5 on ``data``: split (automatic, or ``heldout`` ids), baseline, residuals, ranking, extension fits
+    on calibration trials, held-out judgement (:mod:`.verdict`), verdict."""
+    t0 = time.perf_counter()
+    split = prepare(data, heldout)
+    _say(progress, f"split ({split.method}): {len(split.calibration)} calibration, {len(split.heldout)} held-out")
+    base = base or load_parameters("CT09")
+    baseline = calibrate_baseline(data, split.calibration, base, workers=workers, progress=progress)
+    measured = {i: np.asarray(t.force, dtype=float) for i, t in data.trials.items()}
+    resid = {i: baseline.simulated[i] - measured[i] for i in data.trials}
+    noise = {i: noise_level(r) for i, r in resid.items()}
+    _say(progress, "residuals against the explanatory variables and A(t) by inverting Module 3")
+    variables = {i: explanatory_variables(t, baseline.parameters, baseline.simulated[i])
+                 for i, t in data.trials.items()}
+    structure = residual_structure(data.trials, resid, variables)
+    candidates = rank_candidates(data.trials, baseline.parameters["g1"], split.calibration, split.heldout, resid,
+                                 noise, variables)
+    catalogue = set(available())
+    to_fit = [c.cause.name for c in candidates if c.untestable is None and c.cause.name in catalogue][:max_fits]
+    fits: dict[str, ExtensionFit] = {}
+    evidence: dict[str, Evidence] = {}
+    trials = list(data.trials.values())
+    cal = [data.trials[i] for i in split.calibration]
+    for k, name in enumerate(to_fit, 1):
+        _say(progress, f"candidate {k}/{len(to_fit)}: fitting extension {name!r} on the calibration trials")
+        fits[name] = f = fit_extension(name, baseline.parameters, cal, trials, baseline.options, workers=workers)
+        evidence[name] = judge(split.heldout, measured, baseline.simulated, f.simulated, noise, f.n_parameters,
+                               f.away_from_neutral())
+        _say(progress, f"  {name}: {evidence[name].text()}")
+    passing = [n for n in to_fit if evidence[n].passed]
+    if passing:
+        verdict = max(passing, key=lambda n: evidence[n].chi2_gain)
+    final = fits[verdict].simulated if passing else baseline.simulated
+    structured = structured_trials(measured, final, noise)
+    after = residual_structure(data.trials, {i: final[i] - measured[i] for i in structured}, variables)
+    if not passing:
+        verdict = "unexplained" if is_unexplained(structured, len(data.trials)) else "none"
+    _say(progress, f"verdict: {verdict}")
+    return Diagnosis(data, split, baseline, noise, structure, candidates, fits, evidence, verdict, structured, after,
+                     time.perf_counter() - t0, variables)

@@ -1,0 +1,140 @@
+"""Step 5 of the diagnosis: is a candidate's held-out gain real?  The decision rule, in numbers.
+
+For held-out trial k: SSE0_k, SSE1_k the squared error (N^2) of the baseline and of the extended model, s_k and
+rho_k its AR(1) noise (:func:`.residuals.noise_level`), n_eff,k = n_k (1 - rho_k) / (1 + rho_k).  A candidate
+passes when all four hold:
+
+1. **identified**: on the calibration fit, the 95 % interval (HAC + integrator) of at least one of the extension's
+   effect parameters excludes its neutral value;
+2. **beyond noise and parameters (BIC)**: the held-out chi-square gain corrected for autocorrelation,
+   dX2 = sum_k (SSE0_k - SSE1_k) / s_k^2 * (1 - rho_k) / (1 + rho_k), exceeds p ln(N_eff) (p: the extension's
+   parameters, N_eff = sum_k n_eff,k);
+3. **robust (block bootstrap)**: the 5th percentile of the total held-out gain in noise units,
+   sum_k (SSE0_k - SSE1_k) / s_k^2, over ``N_BOOTSTRAP`` = 2000 moving-block bootstrap resamples of the per-sample
+   gain (e0^2 - e1^2) / s_k^2 within each trial (blocks of max(4 (1 + rho) / (1 - rho), n / 25) samples), is > 0;
+4. **material**: the gain removes at least ``MIN_EXCESS_REMOVED`` = 25 % of the held-out error above noise,
+   sum_k max(SSE0_k - n_k s_k^2, 0) / s_k^2 (noise units, so every trial counts by its noise, not its force);
+5. **better where a physiologist looks**: the mean held-out NRMSE (eq 17) falls.
+
+The verdict is the passing candidate with the largest dX2; with none, "unexplained" when at least
+max(``MIN_STRUCTURED_TRIALS`` = 3, 20 % of the trials) have a baseline residual RMS above ``STRUCTURE_RATIO`` = 1.5
+times their noise sd (structure beyond noise in several trials, not one calibration misfit), else "none".
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from ..analysis.metrics import nrmse_percent
+from .residuals import Noise
+
+N_BOOTSTRAP = 2000
+MIN_EXCESS_REMOVED = 0.25
+STRUCTURE_RATIO = 1.5
+MIN_STRUCTURED_TRIALS = 3
+MIN_STRUCTURED_FRACTION = 0.2
+
+
+@dataclass
+class Evidence:
+    """The numbers behind one candidate's test (module docstring); ``passed`` and, if not, the failed rules."""
+
+    gain_sse_N2: float  # noise units (sum of (SSE0 - SSE1) / s^2)
+    nrmse_before: float
+    nrmse_after: float
+    chi2_gain: float
+    bic_penalty: float
+    bootstrap_p05_N2: float
+    excess_sse_N2: float
+    excess_removed: float
+    identified: list[str]
+    failed: list[str] = field(default_factory=list)
+
+    @property
+    def passed(self) -> bool:
+        return not self.failed
+
+    def text(self) -> str:
+        return (f"held-out mean NRMSE {self.nrmse_before:.2f} -> {self.nrmse_after:.2f} %; gain "
+                f"{self.gain_sse_N2:.4g} noise variances (chi2 {self.chi2_gain:.1f} vs BIC penalty "
+                f"{self.bic_penalty:.1f}); bootstrap 5th percentile {self.bootstrap_p05_N2:.4g}; removes "
+                f"{100 * self.excess_removed:.0f} % of the held-out error above noise; parameters away from "
+                f"neutral: {', '.join(self.identified) or 'none'}"
+                + (f"; FAILS: {'; '.join(self.failed)}" if self.failed else "; passes every rule"))
+
+    def to_json(self) -> dict:
+        return {"gain_noise_units": self.gain_sse_N2, "nrmse_heldout_before": self.nrmse_before,
+                "nrmse_heldout_after": self.nrmse_after, "chi2_gain": self.chi2_gain, "bic_penalty": self.bic_penalty,
+                "bootstrap_p05_noise_units": self.bootstrap_p05_N2, "excess_noise_units": self.excess_sse_N2,
+                "excess_removed": self.excess_removed, "identified": self.identified, "passed": self.passed,
+                "failed": self.failed}
+
+
+def block_bootstrap_p05(gains: Sequence[np.ndarray], noise: Sequence[Noise], rng: np.random.Generator,
+                        n_boot: int = N_BOOTSTRAP) -> float:
+    """5th percentile of the summed per-sample gains under a moving-block bootstrap within each series."""
+    total = np.zeros(n_boot)
+    for d, nz in zip(gains, noise):
+        n = d.size
+        block = int(min(n, max(math.ceil(4.0 * (1 + nz.rho) / (1 - nz.rho)), math.ceil(n / 25.0))))
+        n_blocks = math.ceil(n / block)
+        sums = np.convolve(d, np.ones(block), mode="valid")  # sum of every block of that length
+        starts = rng.integers(0, sums.size, size=(n_boot, n_blocks))
+        total += sums[starts].sum(axis=1) * (n / (n_blocks * block))
+    return float(np.quantile(total, 0.05))
+
+
+def judge(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: Mapping[str, np.ndarray],
+          after: Mapping[str, np.ndarray], noise: Mapping[str, Noise], n_parameters: int,
+          identified: list[str], seed: int = 0) -> Evidence:
+    """The evidence for one candidate on the ``heldout`` trials (forces in N, by trial id)."""
+    gain = chi2 = excess = n_eff = 0.0
+    per_sample, nr0, nr1 = [], [], []
+    for i in heldout:
+        e0, e1 = before[i] - measured[i], after[i] - measured[i]
+        nz = noise[i]
+        v = nz.sd_N ** 2
+        s0, s1 = float(e0 @ e0) / v, float(e1 @ e1) / v
+        gain += s0 - s1
+        chi2 += (s0 - s1) * (1 - nz.rho) / (1 + nz.rho)
+        excess += max(s0 - e0.size, 0.0)
+        n_eff += nz.n_eff
+        per_sample.append((e0 ** 2 - e1 ** 2) / v)
+        nr0.append(nrmse_percent(measured[i], before[i]))
+        nr1.append(nrmse_percent(measured[i], after[i]))
+    penalty = n_parameters * math.log(max(n_eff, 2.0))
+    p05 = block_bootstrap_p05(per_sample, [noise[i] for i in heldout], np.random.default_rng(seed))
+    removed = gain / excess if excess > 0 else 0.0
+    failed = []
+    if not identified:
+        failed.append("no effect parameter's 95 % interval excludes its neutral value")
+    if not chi2 > penalty:
+        failed.append(f"chi2 gain {chi2:.1f} <= BIC penalty {penalty:.1f}")
+    if not p05 > 0:
+        failed.append(f"bootstrap 5th percentile of the gain {p05:.3g} <= 0")
+    if not removed >= MIN_EXCESS_REMOVED:
+        failed.append(f"removes {100 * removed:.0f} % < {100 * MIN_EXCESS_REMOVED:.0f} % of the held-out error "
+                      "above noise")
+    if not np.mean(nr1) < np.mean(nr0):
+        failed.append(f"mean held-out NRMSE does not fall ({np.mean(nr0):.2f} -> {np.mean(nr1):.2f} %)")
+    return Evidence(gain, float(np.mean(nr0)), float(np.mean(nr1)), chi2, penalty, p05, excess, removed, identified, failed)
+
+
+def structured_trials(measured: Mapping[str, np.ndarray], simulated: Mapping[str, np.ndarray],
+                      noise: Mapping[str, Noise]) -> list[str]:
+    """Trials whose residual RMS exceeds STRUCTURE_RATIO times their noise sd."""
+    out = []
+    for i, m in measured.items():
+        e = simulated[i] - m
+        if math.sqrt(float(e @ e) / e.size) > STRUCTURE_RATIO * noise[i].sd_N:
+            out.append(i)
+    return out
+
+
+def is_unexplained(structured: Sequence[str], n_trials: int) -> bool:
+    """Enough trials keep structure beyond noise to call the residual unexplained (module docstring)."""
+    return len(structured) >= max(MIN_STRUCTURED_TRIALS, math.ceil(MIN_STRUCTURED_FRACTION * n_trials))

@@ -1,0 +1,49 @@
+"""diagnosis.json schema, report.md, figures, params.json, and the refusal to overwrite."""
+
+import json
+
+import pytest
+
+from neuromuscle.cli import main
+from neuromuscle.diagnose import REPORT_FILES, SCHEMA, run_diagnosis
+from neuromuscle.diagnose.candidates import CAUSES
+from neuromuscle.errors import InputError
+from neuromuscle.parameters import load_parameters
+
+
+def test_diagnosis_json_schema(null_files):
+    path, out, _ = null_files
+    doc = json.loads((out / "diagnosis.json").read_text())
+    assert doc["schema"] == SCHEMA
+    assert doc["verdict"] in {c.name for c in CAUSES} | {"none", "unexplained"}
+    assert set(doc["split"]) >= {"calibration", "heldout"}
+    assert set(doc["split"]["calibration"]) | set(doc["split"]["heldout"]) == set(doc["baseline"]["nrmse"])
+    assert not set(doc["split"]["calibration"]) & set(doc["split"]["heldout"])
+    assert all(isinstance(v, float) for v in doc["baseline"]["nrmse"].values())
+    for c in doc["causes"]:
+        assert {"name", "evidence", "parameters", "nrmse_heldout_before", "nrmse_heldout_after"} <= set(c)
+        assert isinstance(c["nrmse_heldout_before"], float) and isinstance(c["nrmse_heldout_after"], float)
+        for p in c["parameters"].values():
+            assert p["ci95"][0] <= p["value"] <= p["ci95"][1]
+    names = [c["name"] for c in doc["causes"]] + [u["name"] for u in doc["untestable"]]
+    assert sorted(names) == sorted(c.name for c in CAUSES)
+    assert "staircase" in [u["name"] for u in doc["untestable"]]  # no train of >= 5 stimuli at <= 15 Hz
+
+
+def test_report_md_verdict_first_and_figures(null_files):
+    _, out, doc = null_files
+    text = (out / "report.md").read_text()
+    assert text.splitlines()[2].startswith("**Verdict: none.**")
+    assert "| trial | side |" in text
+    assert doc["figures"] and all((out / p).is_file() for p in doc["figures"].values())
+    assert "residual" in doc["figures"]
+    load_parameters(out / "params.json")
+
+
+def test_refuses_to_overwrite(null_files):
+    path, out, _ = null_files
+    before = {n: (out / n).read_bytes() for n in REPORT_FILES}
+    with pytest.raises(InputError, match="refusing to overwrite"):
+        run_diagnosis(path, out)
+    assert main(["diagnose", str(path), "--out", str(out), "--quiet"]) == 2
+    assert {n: (out / n).read_bytes() for n in REPORT_FILES} == before

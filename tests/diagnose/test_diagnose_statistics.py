@@ -1,0 +1,75 @@
+"""Noise estimate from differences, the split, and the decision rule on constructed residuals."""
+
+import numpy as np
+import pytest
+
+from conftest import ar1
+from diagnose_datasets import make_data
+from neuromuscle.diagnose.residuals import noise_level
+from neuromuscle.diagnose.split import automatic_split, given_split
+from neuromuscle.diagnose.verdict import is_unexplained, judge
+from neuromuscle.errors import InputError
+
+
+@pytest.mark.parametrize("rho, rel", [(0.0, 0.1), (0.6, 0.15), (0.85, 0.5)])
+def test_noise_level_under_a_smooth_misfit(rho, rel):
+    """sd within rel (the differences carry little of strongly correlated noise: rho 0.85 is imprecise)."""
+    rng = np.random.default_rng(5)
+    t = np.arange(3000) * 1e-3
+    misfit = 0.5 * np.sin(2 * np.pi * 1.5 * t)  # slow model error, 5x the noise
+    nz = noise_level(misfit + ar1(rng, t.size, 0.1, rho))
+    assert nz.sd_N == pytest.approx(0.1, rel=rel)
+    assert nz.rho == pytest.approx(rho, abs=0.08)
+
+
+def _case(rng, misfit_scale, effect, fix):
+    """Held-out trials: measured = truth + AR(1) noise; baseline misses ``effect`` (and one trial has a misfit);
+    the candidate removes ``fix`` of the effect."""
+    n, sd, rho = 1000, 0.05, 0.6
+    meas, before, after, noise = {}, {}, {}, {}
+    for k in range(4):
+        truth = np.sin(np.linspace(0, 3, n)) * 5
+        m = truth + ar1(rng, n, sd, rho)
+        eff = effect * np.linspace(0, 1, n)
+        mis = misfit_scale * np.sin(np.linspace(0, 9, n)) if k == 0 else 0.0
+        meas[k], before[k], after[k] = m, truth + eff + mis, truth + (1 - fix) * eff + mis
+        noise[k] = noise_level(before[k] - m)
+    return list(meas), meas, before, after, noise
+
+
+def test_rule_passes_a_real_effect():
+    ids, meas, before, after, noise = _case(np.random.default_rng(1), 0.0, 0.3, 0.8)
+    ev = judge(ids, meas, before, after, noise, 2, ["x.k"])
+    assert ev.passed, ev.text()
+
+
+def test_rule_refuses_a_small_change_of_a_calibration_misfit():
+    """One held-out trial with a misfit 4x the noise; the candidate moves the prediction by 1 % of it."""
+    rng = np.random.default_rng(2)
+    ids, meas, before, _, noise = _case(rng, 0.2, 0.0, 0.0)
+    after = dict(before)
+    after[0] = before[0] - 0.01 * 0.2 * np.sin(np.linspace(0, 9, 1000))
+    ev = judge(ids, meas, before, after, noise, 2, ["x.k"])
+    assert not ev.passed and any("above noise" in f for f in ev.failed), ev.text()
+
+
+def test_rule_refuses_an_unidentified_extension():
+    ids, meas, before, after, noise = _case(np.random.default_rng(3), 0.0, 0.3, 0.8)
+    assert not judge(ids, meas, before, after, noise, 2, []).passed
+
+
+def test_unexplained_needs_several_trials():
+    assert not is_unexplained(["a"], 10) and not is_unexplained(["a", "b"], 10)
+    assert is_unexplained(["a", "b", "c"], 10) and not is_unexplained(["a", "b", "c"], 25)
+
+
+def test_automatic_split_puts_each_protocol_on_both_sides():
+    data = make_data(0)
+    s = automatic_split(data)
+    for proto in {t.protocol for t in data.trials.values()}:
+        ids = {i for i, t in data.trials.items() if t.protocol == proto}
+        assert ids & set(s.calibration) and ids & set(s.heldout)
+    g = given_split(data, ["twitch_opt", "long50_opt"])
+    assert g.heldout == ("twitch_opt", "long50_opt") and "twitch_opt" not in g.calibration
+    with pytest.raises(InputError, match="nosuch"):
+        given_split(data, ["nosuch"])
