@@ -107,6 +107,8 @@ class MuscleUnit:
             comp.instantiate(seg, params)
             self.components[slot] = comp
         self._wire(exts)
+        for ext in exts.values():
+            ext.attach(self.components, params)  # a switch extension turns its baseline equation on
         if initial_state not in INITIAL_STATES:
             raise InputError(f"{name}: initial_state must be one of {', '.join(INITIAL_STATES)}, got {initial_state!r}")
         self.initial_state = initial_state
