@@ -269,7 +269,7 @@ CAUSES: Mapping[str, HiddenEffect] = {e.name: e for e in (
                  "release x [1 - a s((g1 - Xm)/1 mm) v+/(v+ + 10 mm/s)], s logistic: an instantaneous loss while "
                  "lengthening below the optimum",
                  ("isokinetic", "random_length"), _lengthening_below_optimum),
-    HiddenEffect("staircase", ("release_gain",), 0.2, 0.6, "1",
+    HiddenEffect("staircase", ("release_gain",), 0.3, 0.8, "1",
                  "largest fractional gain of release after many recent low-rate stimuli",
                  "release from spike k on x [1 + a n^3/(n^3 + 2.5^3)], n = sum over earlier spikes j of "
                  "w_j exp(-(t_k - t_j)/1 s), w = 1 - 1/(1 + (ISI/100 ms)^4): a positive staircase built by "
