@@ -96,20 +96,16 @@ def _run(params: ParameterSet, trial: Trial, series: dict, dt_ms: float) -> np.n
 
 def _simulate(job: tuple) -> np.ndarray:
     """Clean force (N) of one trial under one hidden effect (module level, for worker processes).  A
-    ``force_scale`` series is realised through force_offset = (scale - 1) F, F from a first run without it
-    (force_offset adds to the output and does not feed back, so the output is F x scale)."""
+    ``force_scale`` series multiplies the output force: KimForce's output does not feed back into the CE, so this
+    equals playing force_offset = (scale - 1) F into it, without a second run."""
     params, trial, cause, amplitude, dt_ms = job
     series = {} if cause is None else modulation(cause, trial_input(trial, params), amplitude)
     scale = series.pop("force_scale", None)
     force = _run(params, trial, series, dt_ms)
     if scale is None:
         return force
-    if "force_offset" in series:
-        raise InputError(f"cause {cause!r}: force_scale and force_offset cannot be combined")
     t_ms = SETTLE_MS + (np.asarray(trial.time_s) - float(trial.time_s[0])) * 1000.0
-    offset = (np.interp(t_ms, *scale) - 1.0) * force
-    series["force_offset"] = (np.concatenate([[0.0], t_ms]), np.concatenate([[0.0], offset]))
-    return _run(params, trial, series, dt_ms)
+    return force * np.interp(t_ms, *scale)
 
 
 def _static_points(params: ParameterSet, optimum_mm: float, sd_N: float,

@@ -3,8 +3,8 @@ the catalogue.  docs/synth.md states each form and how it differs from the catal
 
 Each effect maps a trial (its spikes, length and velocity on the simulation clock) to time series for the
 baseline's modulation ports (``release_gain``, ``uptake_gain`` (1), ``force_offset`` (N)), played into NEURON by
-:mod:`.play`, or for ``force_scale`` (1), a scale of the output force realised through force_offset from a first
-run (:func:`neuromuscle.synth.dataset` ``_simulate``).  The forms are deliberately NOT the catalogue's equations (eq 18, eqs 19-20, the extensions in
+:mod:`.play`, or for ``force_scale`` (1), a scale of the output force (KimForce's output does not feed back into
+the contractile element, so this equals playing force_offset = (scale - 1) F into it).  The forms are deliberately NOT the catalogue's equations (eq 18, eqs 19-20, the extensions in
 ``neuromuscle/model/extensions``): a diagnosis that names the cause has discovered it, not re-fitted its own
 generator.  The strength (0-1) maps linearly onto the amplitude ``a`` between ``low`` and ``high``, a range in which
 the effect is physiologically plausible and, at 1-2 % noise, visible in the trials that should show it.
