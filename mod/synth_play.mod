@@ -8,6 +8,7 @@ RANGE release_gain (1) -> KimCa.release_gain   (release R multiplied by it)
 RANGE uptake_gain  (1) -> KimCa.uptake_gain    (pump U multiplied by it)
 RANGE tauA_gain    (1) -> KimAct.tauA_gain     (tau_A multiplied by it)
 RANGE force_offset (N) -> KimForce.force_offset (added to the output force F)
+Units: the gains are dimensionless (1), force_offset in N, the played times in ms.
 Neutral values (when nothing is played into one): 1, 1, 1, 0 N.
 Numerics: no states, no BREAKPOINT work: the play costs O(1) per step (fixed step and CVODE alike).
 ENDCOMMENT
