@@ -28,6 +28,13 @@ Newton).  Isometric and shortening trials never meet these cases, so their numbe
 steps that end beyond Fl: information (the CE was yielding), not an error.  With no activation (Fc = 0) a taut
 SE makes the CE yield at vmax and a slack one does nothing.
 
+A floor on the CE capacity: a positive Fc below fcmin P0 (fcmin = 1e-4, below any measurable force) is taken
+as fcmin P0 in eqs 10-11.  The CE-SE loop's stiffness grows as P0 KSE b0/Fc and its nonlinear region shrinks
+as Fc/(P0 KSE): with Fc -> 0 (a nearly silent unit, e.g. a parameter set whose resting A is 1e-9) CVODE's
+corrector failed or crawled at h ~ 1e-7 ms.  Fc = 0 (no activation at all) is left as it is, and every
+published set's resting Fc is far above the floor (CT09: 0.0036 P0), so their numbers do not move.
+(neuromuscle.analysis.module3.FC_FLOOR is the same number for the SciPy twin.)
+
 Coupling: POINTER act -> activation A (1) of an excitation mechanism (KimAct, or any model exposing A);
           POINTER xm   -> muscle length (mm) of a MuscleLength point process;
           POINTER force_offset -> modulation port (N): a history-dependent element in parallel with the CE-SE
@@ -43,7 +50,7 @@ ENDCOMMENT
 NEURON {
     POINT_PROCESS KimForce
     THREADSAFE
-    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, F0, zero, use_ports, rest
+    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, fcmin, F0, zero, use_ports, rest
     RANGE F, Fse, Fc, vce, nasym
     POINTER act, xm, force_offset
 }
@@ -60,6 +67,7 @@ PARAMETER {
     vmax = 1e5 (mm/s)
     asym = 0.95 (1)
     lincurv = 0.02 (1)
+    fcmin = 1e-4 (1)
     F0 = 0 (N)
     zero = 0 (N)
     use_ports = 0 (1)
@@ -256,6 +264,9 @@ PROCEDURE se_force() {
     Fc = P0*gc*al
     if (Fc < 0) {
         Fc = 0
+    } else if (Fc > 0 && Fc < fcmin*P0) {
+        : the floor on a positive capacity (see the header)
+        Fc = fcmin*P0
     }
 }
 

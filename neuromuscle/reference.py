@@ -14,7 +14,7 @@ from typing import Callable, Mapping, Sequence
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .analysis.module3 import ce_velocity, force_length
+from .analysis.module3 import ce_velocity, floored_capacity, force_length
 from .protocols.lengths import LengthTrace
 from .parameters import ParameterSet
 
@@ -120,7 +120,7 @@ def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: Le
     xt = CaSPT / p["T0"]
     ainf = 0.5 * (1.0 + np.tanh((xt - p["C1"]) / p["C2"]))
     tau = port["tauA_gain"] * p["C3"] / np.cosh((xt - p["C4"]) / (2.0 * p["C5"]))
-    Fc = float(force_length(x, p["g1"], p["g2"], p["P0"])) * A
+    Fc = floored_capacity(float(force_length(x, p["g1"], p["g2"], p["P0"])) * A, p["P0"])
     # the SE extension Xm - XCE (mm) is the state here: it resolves the tiny forces at rest that an
     # absolute CE length (~ -8 mm) would hide below the tolerance
     extra = list(mod.rhs(t, y[7:], obs)) if isinstance(mod, StateModulation) else []
@@ -142,6 +142,7 @@ def _initial_state(p: ParameterSet, trace: LengthTrace, kind: str, movement: tup
     x0 = float(trace.xm_mm[0])
     fc = float(force_length(x0, p["g1"], p["g2"], p["P0"])) * activation(atil, 0.0, x0, 0.0, p, movement,
                                                                             trace.onset_ms)
+    fc = floored_capacity(fc, p["P0"])
     return np.array([casr, p["CaSR0"] - casr, 0.0, 0.0, 0.0, atil, fc / (p["P0"] * p["KSE"])])
 
 

@@ -37,6 +37,17 @@ def mashima_velocity(F: ArrayLike, Fc: ArrayLike, c0: float, d0: float, P0: floa
     return -d0 * (Fc - F) / (2.0 * Fc - F + c0 * Fc / P0)
 
 
+#: Module 3's floor on a positive CE capacity, in P0 (mod/kim_m3_force.mod RANGE fcmin): a regularisation below
+#: any measurable force.  The CE-SE loop's stiffness grows as 1/Fc and its nonlinear region shrinks as
+#: Fc/(P0 KSE); with Fc -> 0 (a nearly silent unit; sweep draws with a resting A of 1e-9) no integrator resolves it.
+FC_FLOOR = 1e-4
+
+
+def floored_capacity(Fc: float, P0: float) -> float:
+    """Fc (N) with Module 3's floor: a positive Fc below FC_FLOOR P0 is taken as FC_FLOOR P0; 0 stays 0."""
+    return FC_FLOOR * P0 if 0.0 < Fc < FC_FLOOR * P0 else Fc
+
+
 def ce_velocity(F: float, Fc: float, params: Mapping[str, float], vmax: float = 1e5) -> float:
     """CE velocity (mm/s) of eqs 10-11 at SE force F (N) and CE capacity Fc (N): Hill below Fc, Mashima above
     it up to its asymptote Fa = (2 + c0/P0) Fc, the velocity capped at vmax (mm/s) and vmax from Fa on (as
