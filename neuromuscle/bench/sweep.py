@@ -152,6 +152,7 @@ def sweep(settings: SweepSettings, workers: int = 2, progress: bool = True,
     base = load_parameters(settings.base)
     draws = [draw(base, settings.seed, i, settings.factor_range) for i in range(settings.n_draws)]
     done = open_journal(journal, asdict(settings)) if journal is not None else {}
+    done = {i: d for i, d in done.items() if i < settings.n_draws}
     runs = [r for d in done.values() for r in d["runs"]]
     comparisons = [c for d in done.values() for c in d["comparisons"]]
     tasks = [{"draw": d.index, "name": d.params.name, "values": dict(d.params.values), "length_seed": d.length_seed,

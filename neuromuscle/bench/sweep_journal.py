@@ -17,7 +17,9 @@ JOURNAL_SCHEMA = "neuromuscle.sweep-journal/1"
 
 def open_journal(path: str | Path, settings: dict[str, Any]) -> dict[int, dict[str, Any]]:
     """The finished draws of the journal at ``path`` ({draw: {"runs", "comparisons"}}), starting the file when it
-    is absent; InputError when it was written with other settings.  A last line cut short is dropped."""
+    is absent; InputError when it was written with other settings.  A last line cut short is dropped.  The
+    number of draws is not a setting that matters here (draw i is the same in a sweep of any size), so a
+    journal of a larger sweep gives a smaller one its first draws, and a smaller one's journal resumes a larger."""
     p = Path(path)
     header = {"schema": JOURNAL_SCHEMA, "settings": settings}
     if not p.exists() or not p.read_text().strip():
@@ -25,7 +27,11 @@ def open_journal(path: str | Path, settings: dict[str, Any]) -> dict[int, dict[s
         return {}
     lines = p.read_text().splitlines()
     first = json.loads(lines[0])
-    if first != json.loads(json.dumps(header)):
+
+    def same(h: dict[str, Any]) -> dict[str, Any]:
+        return {**h, "settings": {k: v for k, v in h.get("settings", {}).items() if k != "n_draws"}}
+
+    if same(first) != same(json.loads(json.dumps(header))):
         raise InputError(f"sweep journal {p}: written for other settings ({first.get('settings')}); give another "
                          "file or delete it")
     done: dict[int, dict[str, Any]] = {}

@@ -27,3 +27,13 @@ def test_a_journal_of_other_settings_is_refused(tmp_path):
     open_journal(path, SETTINGS)
     with pytest.raises(InputError, match="written for other settings"):
         open_journal(path, {**SETTINGS, "seed": 2})
+
+
+def test_a_journal_serves_a_sweep_of_another_size(tmp_path):
+    """Draw i is the same in a sweep of any size: a stopped 1000-draw sweep gives the summary of its first N."""
+    path = tmp_path / "sweep.jsonl"
+    open_journal(path, SETTINGS)
+    append_draw(path, 0, [], [])
+    append_draw(path, 2, [], [])
+    assert sorted(open_journal(path, {**SETTINGS, "n_draws": 1})) == [0, 2]  # the sweep keeps draws below n_draws
+    assert sorted(open_journal(path, {**SETTINGS, "n_draws": 10})) == [0, 2]
