@@ -16,8 +16,10 @@ range) is reported on the calibration window and on a held-out window not used b
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
-from typing import Sequence
+from pathlib import Path
+from typing import Any, Sequence
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -130,3 +132,34 @@ def fit_unit_forces(t_ms: np.ndarray, basis: np.ndarray, rank: Sequence[float], 
     pred = p0 @ _shift(g, int(round(delay / step)))
     return UnitForceFit(scale, ratio, delay, p0, tuple(calibration_ms), tuple(heldout_ms),
                         nrmse_percent(y[cal], pred[cal]), nrmse_percent(y[held], pred[held]), pred)
+
+
+#: HDF5 schema of a saved calibration (:func:`save_fit`).
+FIT_SCHEMA = "neuromuscle.pool_force_fit/1"
+
+
+def save_fit(path: str | Path, t_ms: np.ndarray, recorded: np.ndarray, fit: UnitForceFit,
+             discharges_ms: Sequence[np.ndarray], *, force_unit: str, overwrite: bool = False,
+             **provenance_fields: Any) -> Path:
+    """Write the recorded and predicted force (``force_unit``) at ``t_ms`` (ms), the discharges (ms, recruitment
+    order), the fit (attrs and /p0) and provenance (versions, mechanism hash, ``provenance_fields``) to HDF5;
+    refuses to replace an existing file unless overwrite."""
+    import h5py
+
+    from ..reports.outdir import atomic_path, refuse_existing_file
+    from ..sim.provenance import provenance
+
+    path = refuse_existing_file(path, overwrite)
+    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+        f.attrs["schema"] = FIT_SCHEMA
+        f.attrs["provenance"] = json.dumps(provenance(**provenance_fields), default=str)
+        f.attrs["fit"] = json.dumps({k: v for k, v in fit.summary().items() if k != "p0"})
+        f.attrs["force_unit"] = force_unit
+        f.create_dataset("t_ms", data=t_ms)
+        f.create_dataset("recorded_force", data=recorded)
+        f.create_dataset("predicted_force", data=fit.predicted)
+        f.create_dataset("p0", data=fit.p0)
+        g = f.create_group("discharges_ms")
+        for i, d in enumerate(discharges_ms):
+            g.create_dataset(f"unit_{i}", data=np.asarray(d, float))
+    return path
