@@ -151,13 +151,14 @@ def load_caillet(path: str | Path, level_percent_mvc: float | None = None) -> Re
     """Read one Caillet .mat file (layout in the module docstring); every problem raises InputError naming the
     file and the field (and the unit)."""
     import scipy.io
+    from scipy.io.matlab import MatReadError
 
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{p}: no such file")
     try:
         mat = scipy.io.loadmat(p)
-    except (ValueError, TypeError, OSError, NotImplementedError) as exc:
+    except (MatReadError, ValueError, TypeError, OSError, NotImplementedError) as exc:
         raise InputError(f"{p}: not a readable MATLAB .mat file ({exc})") from None
     level = level_from_name(p) if level_percent_mvc is None else positive_number("level_percent_mvc",
                                                                                  level_percent_mvc)
