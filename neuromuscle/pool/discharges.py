@@ -1,0 +1,172 @@
+"""Recorded motor-unit discharges and force: decomposed HD-EMG files of Caillet et al. (2022, 2023) as pool input.
+
+    rec = load_caillet("S1_30_256.mat")               # level (% MVC) read from the name; level_percent_mvc= else
+    trial = rec.trial(pad_ms=1000.0)                  # the window the discharges cover, times from its start
+    pool.drive_discharges(trial.discharges_ms, trial.duration_ms)   # recruitment order = the pool's unit order
+
+File layout (MATLAB .mat, ``scipy.io.loadmat``): ``MUPulses`` a 1 x n cell of discharge sample indices (one row a
+unit, at ``fsamp`` Hz, counted from 1 as MATLAB does: sample k is at (k - 1) / fsamp s), ``fsamp`` the sampling rate
+(Hz), ``ref_signal`` the force transducer at ``fsamp`` (arbitrary units).  The force is normalised to % MVC: its
+baseline (median before the first discharge) is 0 and its plateau (median of the samples above 80 % of the
+baseline-to-99th-percentile span) is the trial's target level.  Units are put in recruitment order: by the
+normalised force at their first discharge (ties by the time of that discharge).  Times in ms.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..validate import positive_number, time_order_problem
+
+#: Fraction of the baseline-to-99th-percentile span above which force samples count as the plateau.
+PLATEAU_FRACTION = 0.8
+
+
+@dataclass(frozen=True)
+class DischargeTrial:
+    """Discharges (ms, from the trial's start; recruitment order) and the recorded force (% MVC) of one trial
+    window; ``start_ms`` is where the window starts in the file, ``units`` the file's unit index of each train."""
+
+    source: str
+    start_ms: float
+    duration_ms: float
+    discharges_ms: list[np.ndarray]
+    units: np.ndarray
+    force_t_ms: np.ndarray
+    force_percent_mvc: np.ndarray
+
+    def force_at(self, t_ms: np.ndarray) -> np.ndarray:
+        """The recorded force (% MVC) linearly interpolated at ``t_ms`` (ms from the trial's start)."""
+        return np.interp(t_ms, self.force_t_ms, self.force_percent_mvc)
+
+
+@dataclass(frozen=True)
+class RecordedDischarges:
+    """One file: every unit's discharges (ms from the recording's start, file order) and the force (% MVC)."""
+
+    path: Path
+    fsamp_hz: float
+    level_percent_mvc: float
+    discharges_ms: list[np.ndarray]
+    force_percent_mvc: np.ndarray
+
+    @property
+    def n_units(self) -> int:
+        """Number of decomposed units."""
+        return len(self.discharges_ms)
+
+    @property
+    def force_t_ms(self) -> np.ndarray:
+        """Sample times of the force (ms)."""
+        return np.arange(self.force_percent_mvc.size) * (1000.0 / self.fsamp_hz)
+
+    def thresholds_percent_mvc(self) -> np.ndarray:
+        """Each unit's recruitment threshold: the force (% MVC) at its first discharge (file order)."""
+        return np.interp([d[0] for d in self.discharges_ms], self.force_t_ms, self.force_percent_mvc)
+
+    def recruitment_order(self) -> np.ndarray:
+        """File indices of the units from the lowest recruitment threshold to the highest."""
+        first = np.array([d[0] for d in self.discharges_ms])
+        return np.lexsort((first, self.thresholds_percent_mvc()))
+
+    def trial(self, pad_ms: float = 1000.0) -> DischargeTrial:
+        """The window from ``pad_ms`` (ms) before the first discharge to ``pad_ms`` after the last one (within the
+        force record), discharges in recruitment order with times from the window's start."""
+        pad = positive_number("pad_ms", pad_ms)
+        t = self.force_t_ms
+        start = max(0.0, min(d[0] for d in self.discharges_ms) - pad)
+        end = min(float(t[-1]), max(d[-1] for d in self.discharges_ms) + pad)
+        order = self.recruitment_order()
+        sel = (t >= start) & (t <= end)
+        return DischargeTrial(str(self.path), start, end - start, [self.discharges_ms[i] - start for i in order],
+                              order, t[sel] - start, self.force_percent_mvc[sel])
+
+
+def level_from_name(path: Path) -> float:
+    """The contraction level (% MVC) in a Caillet file name (``S1_30_256``, ``TA_35_D``, ``GM_30``: the first
+    number of two digits)."""
+    m = re.search(r"(?:^|_)(\d{2})(?:_|$)", path.stem)
+    if not m:
+        raise InputError(f"{path}: no contraction level (% MVC) in the file name; pass level_percent_mvc")
+    return float(m.group(1))
+
+
+def _field(mat: dict, path: Path, name: str) -> np.ndarray:
+    if name not in mat:
+        found = sorted(k for k in mat if not k.startswith("__"))
+        raise InputError(f"{path}: field {name!r} is missing (found {found})")
+    return np.asarray(mat[name])
+
+
+def _numeric(path: Path, name: str, value: np.ndarray) -> np.ndarray:
+    if value.dtype.kind not in "iuf" or value.size == 0:
+        raise InputError(f"{path}: field {name!r} must hold numbers, got {value.dtype} of size {value.size}")
+    out = value.astype(np.float64).ravel()
+    if not np.all(np.isfinite(out)):
+        raise InputError(f"{path}: field {name!r} is not finite at index {int(np.flatnonzero(~np.isfinite(out))[0])}")
+    return out
+
+
+def _pulses(path: Path, cell: np.ndarray, fsamp: float, n_samples: int) -> list[np.ndarray]:
+    if cell.dtype != object or cell.ndim != 2 or 1 not in cell.shape:
+        raise InputError(f"{path}: field 'MUPulses' must be a 1 x n cell array, got {cell.dtype} {cell.shape}")
+    out = []
+    for i, x in enumerate(cell.ravel()):
+        where = f"{path}: field 'MUPulses' unit {i}"
+        k = _numeric(path, f"MUPulses unit {i}", np.asarray(x))
+        if np.any(k != np.round(k)):
+            raise InputError(f"{where}: sample indices must be integers, got {k[k != np.round(k)][0]:g}")
+        if k[0] < 1 or k[-1] > n_samples:
+            bad = k[0] if k[0] < 1 else k[-1]
+            raise InputError(f"{where}: sample {bad:g} lies outside the force record (1..{n_samples} at "
+                             f"{fsamp:g} Hz)")
+        problem = time_order_problem(k, where, "samples")
+        if problem:
+            raise InputError(problem)
+        out.append((k - 1.0) * (1000.0 / fsamp))
+    if not out:
+        raise InputError(f"{path}: field 'MUPulses' holds no units")
+    return out
+
+
+def normalise_force(path: Path, raw: np.ndarray, first_sample: int, level: float) -> np.ndarray:
+    """``raw`` force (a.u.) in % MVC: baseline (median of samples before ``first_sample``) at 0, plateau (see the
+    module docstring) at ``level``."""
+    if first_sample < 1:
+        raise InputError(f"{path}: field 'ref_signal' has no sample before the first discharge (no baseline)")
+    base = float(np.median(raw[:first_sample]))
+    top = float(np.percentile(raw, 99.0))
+    if top <= base:
+        raise InputError(f"{path}: field 'ref_signal' never rises above its baseline {base:g}: no contraction")
+    plateau = float(np.median(raw[raw >= base + PLATEAU_FRACTION * (top - base)]))
+    return level * (raw - base) / (plateau - base)
+
+
+def load_caillet(path: str | Path, level_percent_mvc: float | None = None) -> RecordedDischarges:
+    """Read one Caillet .mat file (layout in the module docstring); every problem raises InputError naming the
+    file and the field (and the unit)."""
+    import scipy.io
+    from scipy.io.matlab import MatReadError
+
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{p}: no such file")
+    try:
+        mat = scipy.io.loadmat(p)
+    except (MatReadError, ValueError, TypeError, OSError, NotImplementedError) as exc:
+        raise InputError(f"{p}: not a readable MATLAB .mat file ({exc})") from None
+    level = level_from_name(p) if level_percent_mvc is None else positive_number("level_percent_mvc",
+                                                                                 level_percent_mvc)
+    fs = _numeric(p, "fsamp", _field(mat, p, "fsamp"))
+    if fs.size != 1 or fs[0] <= 0:
+        raise InputError(f"{p}: field 'fsamp' must be one positive rate (Hz), got {fs[:3]}")
+    raw = _numeric(p, "ref_signal", _field(mat, p, "ref_signal"))
+    trains = _pulses(p, _field(mat, p, "MUPulses"), float(fs[0]), raw.size)
+    first = int(round(min(d[0] for d in trains) * fs[0] / 1000.0))
+    force = normalise_force(p, raw, first, level)
+    return RecordedDischarges(p, float(fs[0]), level, trains, force)

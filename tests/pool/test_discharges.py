@@ -1,0 +1,121 @@
+"""Recorded discharges: the Caillet loader on the real files and its refusals; unit-force calibration recovers a
+known P0 spread and delay from synthetic discharges."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.io
+
+from neuromuscle import Simulator
+from neuromuscle.errors import InputError
+from neuromuscle.pool import Pool, PoolDefinition
+from neuromuscle.pool.discharges import load_caillet
+from neuromuscle.pool.force_calibration import fit_unit_forces, unit_force_basis
+
+CAILLET = Path(__file__).resolve().parents[2].parent / "shared" / "real_data" / "human_mu_spike_trains_caillet"
+needs_data = pytest.mark.skipif(not CAILLET.is_dir(), reason=f"Caillet real-data folder {CAILLET} is absent")
+
+
+@needs_data
+@pytest.mark.parametrize("name, units, level", [("S1_30_256.mat", 84, 30.0), ("TA_35_D.mat", 32, 35.0),
+                                                ("GM_30.mat", 27, 30.0)])
+def test_real_files_load_in_ms_and_percent_mvc(name, units, level):
+    rec = load_caillet(CAILLET / name)
+    assert rec.n_units == units and rec.fsamp_hz == 2048.0 and rec.level_percent_mvc == level
+    m = scipy.io.loadmat(CAILLET / name)
+    first = np.ravel(m["MUPulses"][0][0]).astype(float)
+    assert np.allclose(rec.discharges_ms[0], (first - 1) / 2048.0 * 1000.0)  # samples (from 1) -> ms
+    f = rec.force_percent_mvc
+    assert abs(np.median(f[:2000])) < 1.0 and level * 0.9 < np.percentile(f, 90) < level * 1.1
+    trial = rec.trial(pad_ms=1000.0)
+    thr = rec.thresholds_percent_mvc()[trial.units]
+    assert np.all(np.diff(thr) >= 0)  # recruitment order
+    assert trial.duration_ms < 40_000.0 and min(d[0] for d in trial.discharges_ms) == pytest.approx(1000.0)
+    assert max(d[-1] for d in trial.discharges_ms) <= trial.duration_ms
+    if name == "GM_30.mat":  # discharges cover the first of three trapezoids only: the window stops there
+        assert trial.start_ms + trial.duration_ms < 36_000.0
+
+
+def _good(**change):
+    pulses = np.empty((1, 2), dtype=object)
+    pulses[0, 0] = np.array([[3000, 3200, 3400]], dtype=np.int32)
+    pulses[0, 1] = np.array([[3100, 3350]], dtype=np.uint16)
+    ref = np.concatenate([np.zeros(2500), np.ones(2500)]) + 0.5
+    m = {"MUPulses": pulses, "fsamp": np.array([[2048.0]]), "ref_signal": ref[None, :]}
+    m.update(change)
+    return {k: v for k, v in m.items() if v is not None}
+
+
+def _unit(values):
+    a = np.empty((1, 1), dtype=object)
+    a[0, 0] = np.array([values], dtype=float)
+    return a
+
+
+def test_small_good_file_loads(tmp_path):
+    scipy.io.savemat(tmp_path / "X_20.mat", _good())
+    rec = load_caillet(tmp_path / "X_20.mat")
+    assert rec.level_percent_mvc == 20.0 and rec.force_percent_mvc[-1] == pytest.approx(20.0)
+    assert np.array_equal(rec.recruitment_order(), [0, 1])  # same threshold: the earlier first discharge first
+
+
+@pytest.mark.parametrize("change, message", [
+    (dict(MUPulses=None), "field 'MUPulses' is missing"),
+    (dict(fsamp=np.array([[0.0]])), "field 'fsamp' must be one positive rate"),
+    (dict(ref_signal=np.array([[np.nan, 1.0]])), "field 'ref_signal' is not finite"),
+    (dict(MUPulses=_unit([3000.0, 2999.0])), "field 'MUPulses' unit 0 must be strictly increasing"),
+    (dict(MUPulses=_unit([3000.0, 3000.0])), "two equal times"),
+    (dict(MUPulses=_unit([3000.5])), "sample indices must be integers"),
+    (dict(MUPulses=_unit([3000.0, 9000.0])), "outside the force record"),
+    (dict(ref_signal=np.zeros((1, 5000))), "never rises above its baseline"),
+    (dict(MUPulses=np.zeros((2, 2))), "must be a 1 x n cell array"),
+])
+def test_bad_files_are_refused_naming_file_and_field(tmp_path, change, message):
+    path = tmp_path / "bad_30.mat"
+    scipy.io.savemat(path, _good(**change))
+    with pytest.raises(InputError, match=message) as err:
+        load_caillet(path)
+    assert "bad_30.mat" in str(err.value)
+
+
+def test_unreadable_and_unnamed_files_are_refused(tmp_path):
+    (tmp_path / "junk_30.mat").write_text("not a mat file")
+    with pytest.raises(InputError, match="junk_30.mat: not a readable MATLAB"):
+        load_caillet(tmp_path / "junk_30.mat")
+    scipy.io.savemat(tmp_path / "nolevel.mat", _good())
+    with pytest.raises(InputError, match="no contraction level"):
+        load_caillet(tmp_path / "nolevel.mat")
+    assert load_caillet(tmp_path / "nolevel.mat", level_percent_mvc=10.0).level_percent_mvc == 10.0
+    with pytest.raises(InputError, match="no such file"):
+        load_caillet(tmp_path / "absent_30.mat")
+
+
+def test_calibration_recovers_known_unit_forces_and_delay(ct09):
+    rng = np.random.default_rng(1)
+    n, duration = 5, 2000.0
+    trains = []
+    for i in range(n):  # later units start later and discharge faster, with jittered intervals
+        t = 100.0 + 150.0 * i + np.cumsum(rng.normal(1000.0 / (10 + 3 * i), 8.0, 60))
+        trains.append(t[t < duration - 100.0])
+    d = PoolDefinition(n, ct09, smallest_p0_N=0.5, p0_range=20.0, type_fractions=(1.0, 0.0, 0.0))
+    with Pool(d, motoneurons=False) as pool:
+        pool.drive_discharges(trains, duration)
+        truth = pool.run(duration, Simulator(method="fixed", dt_ms=0.05))
+    y = truth.pool_force_N - truth.pool_force_N[0]
+    y = np.concatenate([np.zeros(30), y[:-30]])  # the recorded force lags by 30 ms
+    t, g = unit_force_basis(trains, duration, ct09, dt_ms=0.05)
+    fit = fit_unit_forces(t, g, np.arange(n) / (n - 1), y, calibration_ms=(0.0, 1000.0),
+                          heldout_ms=(1000.0, 2000.0), delays_ms=np.arange(0.0, 101.0, 10.0))
+    assert fit.scale == pytest.approx(0.5, rel=0.02) and fit.range_ratio == pytest.approx(20.0, rel=0.02)
+    assert fit.delay_ms == 30.0 and fit.nrmse_heldout_percent < 0.5
+    assert np.allclose(fit.p0, [u["P0_N"] for u in truth.units], rtol=0.02)
+
+
+def test_calibration_refuses_bad_windows(ct09):
+    t = np.arange(100.0)
+    g = np.ones((2, 100))
+    with pytest.raises(InputError, match="held-out window"):
+        fit_unit_forces(t, g, [0.0, 1.0], np.ones(100), calibration_ms=(0, 50), heldout_ms=(99, 100))
+    with pytest.raises(InputError, match="do not match"):
+        fit_unit_forces(t, g, [0.0], np.ones(100), calibration_ms=(0, 50), heldout_ms=(50, 100))

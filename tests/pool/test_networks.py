@@ -1,0 +1,57 @@
+"""The example networks run their small defaults from a temporary folder and write their outputs."""
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import h5py
+import pytest
+
+from neuromuscle.pool import load_pool_result
+
+NETWORKS = Path(__file__).resolve().parents[2] / "networks"
+CAILLET = NETWORKS.parent.parent / "shared" / "real_data" / "human_mu_spike_trains_caillet"
+
+
+def _script(name):
+    spec = importlib.util.spec_from_file_location(f"network_{name}", NETWORKS / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_cat_soleus_pool_default(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    s = _script("cat_soleus_pool").main(["--out", "out"])
+    assert s["units"] == 20 and s["recruited"] >= 15 and 5.0 < s["peak_pool_force_N"] <= 23.0
+    r = load_pool_result(tmp_path / "out" / "cat_soleus_ramp.h5")
+    assert [u["type"] for u in r.units].count("S") == 19 and r.provenance["pool"] == "cat_soleus"
+    with h5py.File(tmp_path / "out" / "cat_soleus_ramp.h5") as f:
+        rel = f["force_frequency/relative"][()]
+        assert rel.shape == (2, 10) and rel[0, -1] > 0.9 and rel[0, 0] < 0.1  # fused at 100 Hz, not at 2 Hz
+        assert "mechanism_sha256" in f["force_frequency"].attrs["provenance"]
+    for png in ("cat_soleus_ramp.png", "cat_soleus_summary.png"):
+        assert (tmp_path / "out" / png).stat().st_size > 10_000
+
+
+def test_human_pool_default(tmp_path):
+    s = _script("human_pool").main(["--out", str(tmp_path / "out")])
+    assert s["units"] == 20 and s["recruited"] >= 10
+    moving = load_pool_result(tmp_path / "out" / "human_length.h5")
+    ramp = load_pool_result(tmp_path / "out" / "human_ramp.h5")
+    assert {u["type"] for u in ramp.units} == {"S", "FR", "FF"}
+    assert moving.provenance["length_mm"] != ramp.provenance["length_mm"]  # the random length was used
+    assert (tmp_path / "out" / "human_summary.png").stat().st_size > 10_000
+    with pytest.raises(Exception, match="already holds"):
+        _script("human_pool").main(["--out", str(tmp_path / "out")])  # no silent overwrite
+
+
+@pytest.mark.skipif(not CAILLET.is_dir(), reason=f"Caillet real-data folder {CAILLET} is absent")
+def test_recorded_discharges_default(tmp_path):
+    s = _script("recorded_discharges").main(["--out", str(tmp_path / "out")])
+    assert s["units"] == 17 and s["nrmse_heldout_percent"] < 30.0
+    with h5py.File(tmp_path / "out" / "recorded_discharges.h5") as f:
+        assert f.attrs["force_unit"] == "% MVC" and f["p0"].shape == (17,)
+        assert f["predicted_force"].shape == f["recorded_force"].shape
+    assert (tmp_path / "out" / "recorded_discharges.png").stat().st_size > 10_000
