@@ -69,7 +69,8 @@ class Pool:
         self.per_unit_section = bool(per_unit_section)
         self.per_unit_length = bool(per_unit_length) or self.per_unit_section
         self.specs: list[UnitSpec] = [u for u in definition.units() if u.index % self.nhost == self.rank]
-        self._sec = h.Section(name=f"{definition.name}_muscle_r{self.rank}")
+        if not self.per_unit_section:
+            self._sec = h.Section(name=f"{definition.name}_muscle_r{self.rank}")
         self._lengths: list[Any] = []
         self.muscle: dict[int, MuscleUnit] = {}
         self.cells: dict[int, Motoneuron] = {}
@@ -80,10 +81,11 @@ class Pool:
         shared = None if self.per_unit_length else self._new_length(h, self._sec)
         pc.gid_clear()
         for u in self.specs:
-            sec = self._sec
             if self.per_unit_section:
                 sec = h.Section(name=f"{definition.name}_muscle{u.index}")
                 self._unit_secs.append(sec)
+            else:
+                sec = self._sec
             src = self._new_length(h, sec) if self.per_unit_length else shared
             self.muscle[u.index] = MuscleUnit(u.muscle, section=sec, length_source=src,
                                               extensions=u.extensions or None, name=f"unit{u.index}")
