@@ -1,4 +1,5 @@
-"""``neuromuscle bench unit | fit | diagnose | intervals | sweep``: benchmarks; each default run takes about two minutes, ``--full``
+"""``neuromuscle bench unit | fit | diagnose | intervals | sweep | pool``: benchmarks; each default run takes about two
+minutes, ``--full``
 longer."""
 
 from __future__ import annotations
@@ -67,6 +68,39 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bs.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     bs.add_argument("--json", action="store_true")
     bs.set_defaults(func=run_sweep)
+    bp = bsub.add_parser("pool", help="motoneuron pools of N units on 1 and 2 MPI ranks: wall time, peak memory")
+    bp.add_argument("--units", default=None, help="pool sizes, comma separated (default 50,100; --full "
+                                                  "100,200,400,800)")
+    bp.add_argument("--ranks", default="1,2", help="MPI rank counts, comma separated")
+    bp.add_argument("--duration-ms", type=float, default=None, help="simulated time (default 1000; --full 5000)")
+    bp.add_argument("--dt-ms", type=float, default=0.025)
+    bp.add_argument("--drive", choices=("ramp", "poisson"), default="ramp")
+    bp.add_argument("--full", action="store_true", help="N = 100..800, 5 s (about half an hour on 2 cores)")
+    bp.add_argument("--json", action="store_true")
+    bp.set_defaults(func=run_pool)
+
+
+def _int_list(flag: str, text: str) -> list[int]:
+    try:
+        return [int(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise InputError(f"{flag} must be integers separated by commas, got {text!r}") from None
+
+
+def run_pool(args: argparse.Namespace) -> int:
+    from ..bench.pool import (DEFAULT_DURATION_MS, DEFAULT_UNITS, FULL_DURATION_MS, FULL_UNITS, bench_pool,
+                              table_lines)
+    from ..validate import positive_number
+
+    units = _int_list("--units", args.units) if args.units else list(FULL_UNITS if args.full else DEFAULT_UNITS)
+    duration = args.duration_ms if args.duration_ms is not None else (
+        FULL_DURATION_MS if args.full else DEFAULT_DURATION_MS)
+    positive_number("--duration-ms", duration)
+    positive_number("--dt-ms", args.dt_ms)
+    res = bench_pool(units, _int_list("--ranks", args.ranks), duration, args.dt_ms, args.drive, args.full,
+                     progress=True)
+    print(json.dumps(res, indent=1) if args.json else "\n".join(table_lines(res)))
+    return 0
 
 
 def run_diagnose(args: argparse.Namespace) -> int:

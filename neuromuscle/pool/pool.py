@@ -11,6 +11,11 @@ Drives: ``drive_current_ramp`` (a common current, nA, linear between the given t
 (independent Poisson synaptic input per motoneuron, excitatory conductance), ``drive_discharges`` (recorded
 discharge times delivered to the muscle units: no motoneurons are built).  Length: one MuscleLength per rank
 shared by its units (``per_unit_length=False``) or one per unit; a float (mm) or a LengthTrace.
+
+Muscle sections: all of a rank's muscle units sit on one section (the default, cheapest per fixed step), or each
+on its own with its own MuscleLength (``per_unit_section=True``): then NEURON's local variable time step
+(``Simulator(method="cvode", local_dt=True)``) integrates every unit and every motoneuron apart, so a spike
+interrupts only the unit it reaches.
 """
 
 from __future__ import annotations
@@ -43,7 +48,8 @@ class Pool:
     """The pool's units owned by this rank (gid % nhost == rank); see the module docstring."""
 
     def __init__(self, definition: PoolDefinition, *, length: LengthTrace | float = -8.0,
-                 per_unit_length: bool = False, motoneurons: bool = True) -> None:
+                 per_unit_length: bool = False, motoneurons: bool = True, per_unit_section: bool = False
+                 ) -> None:
         from ..model.mechanisms import load_mechanisms
 
         load_mechanisms()
@@ -60,20 +66,28 @@ class Pool:
             length = finite_number("pool length (mm)", length)
         self.definition = definition
         self.length = length
-        self.per_unit_length = bool(per_unit_length)
+        self.per_unit_section = bool(per_unit_section)
+        self.per_unit_length = bool(per_unit_length) or self.per_unit_section
         self.specs: list[UnitSpec] = [u for u in definition.units() if u.index % self.nhost == self.rank]
-        self._sec = h.Section(name=f"{definition.name}_muscle_r{self.rank}")
+        if not self.per_unit_section:
+            self._sec = h.Section(name=f"{definition.name}_muscle_r{self.rank}")
         self._lengths: list[Any] = []
         self.muscle: dict[int, MuscleUnit] = {}
         self.cells: dict[int, Motoneuron] = {}
         self._keep: list[Any] = []
         self._drive: str | None = None
         self._discharges: dict[int, np.ndarray] = {}
-        shared = None if self.per_unit_length else self._new_length(h)
+        self._unit_secs: list[Any] = []
+        shared = None if self.per_unit_length else self._new_length(h, self._sec)
         pc.gid_clear()
         for u in self.specs:
-            src = self._new_length(h) if self.per_unit_length else shared
-            self.muscle[u.index] = MuscleUnit(u.muscle, section=self._sec, length_source=src,
+            if self.per_unit_section:
+                sec = h.Section(name=f"{definition.name}_muscle{u.index}")
+                self._unit_secs.append(sec)
+            else:
+                sec = self._sec
+            src = self._new_length(h, sec) if self.per_unit_length else shared
+            self.muscle[u.index] = MuscleUnit(u.muscle, section=sec, length_source=src,
                                               extensions=u.extensions or None, name=f"unit{u.index}")
             pc.set_gid2node(u.index, self.rank)
             if motoneurons:
@@ -91,8 +105,8 @@ class Pool:
         if motoneurons:
             pc.spike_record(-1, self._spike_t, self._spike_gid)
 
-    def _new_length(self, h: Any) -> Any:
-        ml = h.MuscleLength(self._sec(0.5))
+    def _new_length(self, h: Any, sec: Any) -> Any:
+        ml = h.MuscleLength(sec(0.5))
         if isinstance(self.length, LengthTrace):
             tv, xv, vv = h.Vector(self.length.t_ms), h.Vector(self.length.xm_mm), h.Vector(self.length.velocity_mm_s)
             xv.play(ml._ref_xm, tv, 1)
@@ -225,6 +239,7 @@ class Pool:
         self.muscle.clear()
         self.cells.clear()
         self._lengths.clear()
+        self._unit_secs.clear()
         if hasattr(self, "_sec"):
             del self._sec
         pc.gid_clear()

@@ -4,7 +4,10 @@ NEURON is a process-wide singleton.  A Simulator owns every global setting a run
 secondorder, CVODE on/off, atol, rtol, the atolscale of every registered mechanism state, the number of threads,
 and ParallelContext's spike-exchange interval (maxstep) -- sets them for the run and restores the previous
 values afterwards, also when the run fails.  Fixed step and CVODE go through the same ``run``: the fixed step by
-``ParallelContext.psolve`` (the stepping loop stays in C), CVODE by stdrun's ``continuerun``.
+``ParallelContext.psolve`` (the stepping loop stays in C), CVODE by stdrun's ``continuerun`` on one rank and by
+``psolve`` in ``maxstep_ms`` chunks on several MPI ranks (spikes must cross ranks) and with ``local_dt`` (so that
+1 and N ranks stop every cell's integrator at the same times).  ``local_dt`` turns on NEURON's
+local variable time step (one CVODE integrator per cell: per connected tree of sections).
 
     sim = Simulator(method="cvode", atol=1e-3)
     sim.run(700.0, units=[unit])         # after building units and their recordings
@@ -73,7 +76,9 @@ class Simulator:
     after every CVODE step; a run that spends either stops with a NumericalError naming ``label`` and the time
     reached.  The default wall budget (-1) is ``DEFAULT_BUDGET_S`` plus ``DEFAULT_BUDGET_S_PER_S`` per simulated
     second; None means none.  ``cvode_minstep_ms`` is NEURON's CVode.minstep (0: CVODE's own limit); a failing
-    CVODE step is reported the same way."""
+    CVODE step is reported the same way.  ``local_dt`` (CVODE only): one integrator per cell (NEURON's lvardt).
+    On several MPI ranks, and with local_dt, CVODE runs by psolve in chunks of ``maxstep_ms``; the wall budget is checked between
+    chunks and the step budget does not apply."""
 
     method: str = "fixed"
     dt_ms: float = 0.025
@@ -86,6 +91,7 @@ class Simulator:
     max_steps: int = DEFAULT_MAX_STEPS
     cvode_minstep_ms: float = 0.0
     label: str = "run"
+    local_dt: bool = False
 
     def __post_init__(self) -> None:
         if self.method not in ("fixed", "cvode"):
@@ -104,6 +110,8 @@ class Simulator:
                              f"{self.max_wall_s!r}")
         if isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int) or self.max_steps < 1:
             raise InputError(f"max_steps must be an integer >= 1, got {self.max_steps!r}")
+        if self.local_dt and self.method != "cvode":
+            raise InputError("local_dt (NEURON's local variable time step) needs method='cvode'")
         if not (self.cvode_minstep_ms >= 0):
             raise InputError(f"cvode_minstep_ms must be >= 0 ms, got {self.cvode_minstep_ms!r}")
 
@@ -116,8 +124,11 @@ class Simulator:
     def settings(self) -> dict[str, Any]:
         """The integrator settings as recorded in provenance (None where the method ignores one)."""
         cv = self.method == "cvode"
-        return {"method": self.method, "dt_ms": None if cv else self.dt_ms, "atol": self.atol if cv else None,
-                "rtol": self.rtol if cv else None, "nthread": self.nthread}
+        out = {"method": self.method, "dt_ms": None if cv else self.dt_ms, "atol": self.atol if cv else None,
+               "rtol": self.rtol if cv else None, "nthread": self.nthread}
+        if self.local_dt:
+            out["local_dt"] = True
+        return out
 
     # -- NEURON's global state -----------------------------------------------------------------------------
     @staticmethod
@@ -130,7 +141,7 @@ class Simulator:
         pc = h.ParallelContext()
         return {"dt": h.dt, "steps_per_ms": h.steps_per_ms, "secondorder": h.secondorder,
                 "cvode_active": cv.active(), "atol": cv.atol(), "rtol": cv.rtol(), "nthread": pc.nthread(),
-                "minstep": cv.minstep(),
+                "minstep": cv.minstep(), "local_dt": cv.use_local_dt(),
                 "atolscale": {name: cv.atolscale(name) for name, _ in _registered_states()}}
 
     @staticmethod
@@ -139,6 +150,7 @@ class Simulator:
 
         cv = h.CVode()
         pc = h.ParallelContext()
+        cv.use_local_dt(saved["local_dt"])
         cv.active(saved["cvode_active"])
         cv.minstep(saved["minstep"])
         cv.atol(saved["atol"])
@@ -163,6 +175,7 @@ class Simulator:
         h.dt = self.dt_ms
         h.steps_per_ms = 1.0 / self.dt_ms
         if self.method == "cvode":
+            cv.use_local_dt(int(self.local_dt))
             cv.active(1)
             cv.minstep(self.cvode_minstep_ms)
             cv.atol(self.atol)
@@ -177,6 +190,9 @@ class Simulator:
 
         from ..errors import NumericalError
 
+        if h.ParallelContext().nhost() > 1 or self.local_dt:
+            self._cvode_psolve(duration_ms)
+            return
         if not h.name_declared("neuromuscle_cvode_run"):
             h(_CVODE_LOOP)
         budget = self.budget_s(duration_ms)
@@ -195,6 +211,31 @@ class Simulator:
             raise NumericalError(f"{self.label}: CVODE took its budget of {self.max_steps} steps and reached only "
                                  f"t = {h.t:.6g} ms of {duration_ms:g} ms (atol {self.atol:g}); raise max_steps, "
                                  "loosen atol, or use the fixed step")
+
+    def _cvode_psolve(self, duration_ms: float) -> None:
+        """CVODE on several MPI ranks: psolve in chunks of maxstep_ms (spike exchange at each), the wall budget
+        (agreed by every rank) checked between chunks."""
+        import time
+
+        from neuron import h
+
+        from ..errors import NumericalError
+
+        pc = h.ParallelContext()
+        pc.set_maxstep(self.maxstep_ms)
+        budget = self.budget_s(duration_ms)
+        start = time.perf_counter()
+        while h.t < duration_ms:
+            try:
+                pc.psolve(min(h.t + self.maxstep_ms, duration_ms))
+            except RuntimeError as exc:
+                raise NumericalError(f"{self.label}: CVODE failed at t = {h.t:.6g} ms of {duration_ms:g} ms "
+                                     f"(atol {self.atol:g}): {str(exc).splitlines()[0][:200]}") from None
+            spent = pc.allreduce(time.perf_counter() - start, 2)  # the slowest rank's time: all stop together
+            if budget is not None and spent > budget and h.t < duration_ms:
+                raise NumericalError(f"{self.label}: CVODE spent its wall-time budget of {budget:.3g} s and reached "
+                                     f"only t = {h.t:.6g} ms of {duration_ms:g} ms (atol {self.atol:g}); raise "
+                                     "max_wall_s, loosen atol, or use the fixed step")
 
     # -- running -------------------------------------------------------------------------------------------
     def run(self, duration_ms: float, units: Iterable[Any] = (), cvode_events_ms: Sequence[float] = ()) -> float:

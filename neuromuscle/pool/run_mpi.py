@@ -1,0 +1,176 @@
+"""Run one pool on any number of MPI ranks; rank 0 writes the result (HDF5) and prints a JSON report.
+
+    mpiexec -n 2 python -m neuromuscle.pool.run_mpi --units 6 --duration-ms 300 --drive poisson --out pool.h5
+    python -m neuromuscle.pool.run_mpi --units 6 --duration-ms 300 --drive ramp --json     # one rank
+
+The units are placed round robin (gid % ranks); every rank simulates its own, spikes cross ranks by
+ParallelContext's exchange every ``min(axon delay)``, forces and spikes are gathered to every rank, and only rank
+0 writes.  Bad input (more ranks than units, an existing --out without --overwrite, impossible values) stops every
+rank before anything is built or written, with one message and exit code 2.
+
+The JSON report: n_units, ranks, duration_ms, dt_ms, method, drive, startup_s (interpreter, NEURON, mechanisms),
+build_s (cells, units, drive), sim_s (integration, slowest rank), wall_s (build + integration + gathering),
+s_per_unit_s (sim_s per simulated unit-second), spikes (motoneuron spikes, all units), peak_rss_mib (largest
+rank) and peak_rss_mib_per_rank, pool_force_peak_N, and ``out`` when a file was written.  Units: s, ms, MiB, N.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import sys
+import time
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+_START = time.perf_counter()
+
+
+@dataclass(frozen=True)
+class PoolRun:
+    """What to run: a PoolDefinition's size and spread, the drive and the integrator.  Units: ms, Hz, uS, nA, N."""
+
+    n_units: int = 6
+    params: str = "CT09"
+    duration_ms: float = 300.0
+    dt_ms: float = 0.025
+    method: str = "fixed"
+    atol: float = 1e-3
+    local_dt: bool = False
+    drive: str = "poisson"
+    rate_hz: float = 400.0
+    weight_uS: float = 0.15
+    seed: int = 0
+    ramp_peak_nA: float = 12.0
+    smallest_p0_N: float = 0.2
+    p0_range: float = 20.0
+    length_mm: float = -8.0
+    record_dt_ms: float = 1.0
+
+
+def parser() -> argparse.ArgumentParser:
+    """Command-line arguments (one per PoolRun field, plus --out, --overwrite, --json)."""
+    d = PoolRun()
+    ap = argparse.ArgumentParser(prog="python -m neuromuscle.pool.run_mpi", description=__doc__.split("\n")[0])
+    ap.add_argument("--units", type=int, default=d.n_units, help="motor units (gids 0..N-1)")
+    ap.add_argument("--params", default=d.params, help="base muscle parameter set")
+    ap.add_argument("--duration-ms", type=float, default=d.duration_ms)
+    ap.add_argument("--dt-ms", type=float, default=d.dt_ms, help="fixed step (ms)")
+    ap.add_argument("--method", choices=("fixed", "cvode"), default=d.method)
+    ap.add_argument("--atol", type=float, default=d.atol, help="CVODE absolute tolerance")
+    ap.add_argument("--local-dt", action="store_true",
+                    help="with --method cvode: NEURON's local variable time step, each unit on its own section")
+    ap.add_argument("--drive", choices=("poisson", "ramp"), default=d.drive,
+                    help="poisson: independent Poisson excitation per motoneuron; ramp: common current 0 -> "
+                         "--ramp-peak-na over the run")
+    ap.add_argument("--rate-hz", type=float, default=d.rate_hz, help="Poisson rate per motoneuron (Hz)")
+    ap.add_argument("--weight-us", type=float, default=d.weight_uS, help="Poisson synaptic weight (uS)")
+    ap.add_argument("--seed", type=int, default=d.seed, help="Poisson seed (Random123 stream seed, gid)")
+    ap.add_argument("--ramp-peak-na", type=float, default=d.ramp_peak_nA)
+    ap.add_argument("--smallest-p0-n", type=float, default=d.smallest_p0_N)
+    ap.add_argument("--p0-range", type=float, default=d.p0_range)
+    ap.add_argument("--length-mm", type=float, default=d.length_mm)
+    ap.add_argument("--record-dt-ms", type=float, default=d.record_dt_ms)
+    ap.add_argument("--out", default=None, help="HDF5 result (written by rank 0)")
+    ap.add_argument("--overwrite", action="store_true")
+    ap.add_argument("--json", action="store_true", help="print the JSON report (rank 0)")
+    return ap
+
+
+def _config(args: argparse.Namespace) -> PoolRun:
+    return PoolRun(n_units=args.units, params=args.params, duration_ms=args.duration_ms, dt_ms=args.dt_ms,
+                   method=args.method, atol=args.atol, local_dt=args.local_dt, drive=args.drive,
+                   rate_hz=args.rate_hz, weight_uS=args.weight_us, seed=args.seed, ramp_peak_nA=args.ramp_peak_na,
+                   smallest_p0_N=args.smallest_p0_n, p0_range=args.p0_range, length_mm=args.length_mm,
+                   record_dt_ms=args.record_dt_ms)
+
+
+def peak_rss_mib() -> float:
+    """This process's peak resident memory (MiB; Linux reports KiB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
+    """Build and run the pool described by ``cfg`` on this rank (MPI started by the caller); returns the gathered
+    PoolResult (on every rank) and the timing report.  Raises InputError before building anything when
+    there are more ranks (``nhost``) than units."""
+    from ..errors import InputError
+    from ..parameters import load_parameters
+    from ..sim import Simulator
+    from .definition import PoolDefinition
+    from .pool import Pool, parallel_context
+
+    if nhost > cfg.n_units:
+        raise InputError(f"{nhost} MPI ranks for a pool of {cfg.n_units} units: use at most one rank per unit")
+    definition = PoolDefinition(cfg.n_units, load_parameters(cfg.params), smallest_p0_N=cfg.smallest_p0_N,
+                                p0_range=cfg.p0_range)
+    definition.units()
+    sim = Simulator(method=cfg.method, dt_ms=cfg.dt_ms, atol=cfg.atol, v_init_mV=-70.0, max_wall_s=None,
+                    local_dt=cfg.local_dt, label=f"pool of {cfg.n_units} units")
+    from ..model.mechanisms import load_mechanisms
+
+    load_mechanisms()
+    pc = parallel_context()
+    pc.barrier()
+    startup = time.perf_counter() - _START
+    t0 = time.perf_counter()
+    with Pool(definition, length=cfg.length_mm, per_unit_section=cfg.local_dt) as pool:
+        if cfg.drive == "poisson":
+            pool.drive_poisson(cfg.rate_hz, cfg.weight_uS, seed=cfg.seed)
+        else:
+            pool.drive_current_ramp([0.0, cfg.duration_ms], [0.0, cfg.ramp_peak_nA])
+        build = max(pc.py_allgather(time.perf_counter() - t0))
+        result = pool.run(cfg.duration_ms, sim, record_dt_ms=cfg.record_dt_ms)
+    wall = time.perf_counter() - t0
+    rss = [float(x) for x in pc.py_allgather(peak_rss_mib())]
+    unit_s = cfg.n_units * cfg.duration_ms / 1000.0
+    report = {"n_units": cfg.n_units, "ranks": nhost, "duration_ms": cfg.duration_ms,
+              "dt_ms": cfg.dt_ms if cfg.method == "fixed" else None, "method": cfg.method, "local_dt": cfg.local_dt, "drive": cfg.drive,
+              "startup_s": startup, "build_s": build, "sim_s": result.wall_s, "wall_s": wall,
+              "s_per_unit_s": result.wall_s / unit_s, "spikes": int(sum(s.size for s in result.spikes_ms)),
+              "peak_rss_mib": max(rss), "peak_rss_mib_per_rank": rss,
+              "pool_force_peak_N": float(result.pool_force_N.max())}
+    return result, report
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point (every rank runs it); exit code 0, or 2 on bad input (one message, from rank 0)."""
+    args = parser().parse_args(argv)
+    from ..errors import NeuromuscleError
+    from ..reports.outdir import refuse_existing_file
+    from .mpi import init_mpi
+
+    rank = 0
+    try:
+        rank, nhost = init_mpi()
+        out = refuse_existing_file(args.out, args.overwrite) if args.out else None  # every rank: same answer
+        result, report = run_pool(_config(args), nhost)
+    except NeuromuscleError as exc:
+        if rank == 0:
+            print(f"neuromuscle: error: {exc}", file=sys.stderr, flush=True)
+        return 2
+    if rank == 0:
+        if out is not None:
+            result.save(out, overwrite=args.overwrite)
+            report["out"] = str(out)
+        if args.json:
+            print(json.dumps(report, indent=1), flush=True)
+    return 0
+
+
+def _finish(code: int) -> None:
+    """Leave MPI cleanly (every rank) and exit with ``code``."""
+    from neuron import h
+
+    sys.stdout.flush()
+    sys.stderr.flush()
+    pc = h.ParallelContext()
+    pc.barrier()
+    pc.done()
+    os._exit(code)
+
+
+if __name__ == "__main__":
+    _finish(main())

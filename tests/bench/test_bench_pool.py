@@ -1,0 +1,37 @@
+"""``neuromuscle bench pool`` on a tiny configuration: the JSON keys, and reports consistent with themselves and
+across rank counts (no wall-time assertion)."""
+
+import json
+
+import pytest
+
+from neuromuscle.bench.pool import RUN_KEYS, bench_pool, table_lines
+from neuromuscle.cli import main
+from neuromuscle.errors import InputError
+from neuromuscle.pool.mpi import mpi_available
+
+
+def test_bench_pool_json_keys_and_consistency(capsys):
+    assert main(["bench", "pool", "--json", "--units", "3", "--ranks", "1,2", "--duration-ms", "60"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert res["duration_ms"] == 60.0 and res["dt_ms"] == 0.025
+    ranks = [r["ranks"] for r in res["runs"]]
+    assert ranks == ([1, 2] if mpi_available() else [1])
+    assert [s["ranks"] for s in res["skipped"]] == ([] if mpi_available() else [2])
+    for r in res["runs"]:
+        assert set(RUN_KEYS) <= set(r)
+        assert r["n_units"] == 3 and r["spikes"] > 0
+        assert 0 < r["sim_s"] <= r["wall_s"] and 0 <= r["build_s"] <= r["wall_s"]
+        assert r["s_per_unit_s"] == pytest.approx(r["sim_s"] / (3 * 0.06))
+        assert len(r["peak_rss_mib_per_rank"]) == r["ranks"]
+        assert r["peak_rss_mib"] == max(r["peak_rss_mib_per_rank"]) and 50 < r["peak_rss_mib"] < 4096
+        assert r["load_1min_before"] >= 0
+    assert len({r["spikes"] for r in res["runs"]}) == 1  # the same pool whatever the ranks
+    assert len(table_lines(res)) == 4 + len(res["runs"])
+
+
+@pytest.mark.parametrize("kw", [dict(units=[1], ranks=[2]), dict(units=[0]), dict(ranks=[]),
+                                dict(units=[2], drive="sine")])
+def test_bench_pool_refuses_bad_configurations(kw):
+    with pytest.raises(InputError):
+        bench_pool(**kw)
