@@ -4,10 +4,15 @@ Module 2 of Kim, Sandercock & Heckman 2015 (seed 001): troponin-bound Ca2+ -> ac
 Equations (spec/kim2015_model.md): eq 8 (Morris-Lecar form), x = [CaSPT]/T0,
     Atil' = (Atil_inf - Atil)/tau_A,  Atil_inf = 0.5 (1 + tanh((x - C1)/C2)),  tau_A = C3/cosh((x - C4)/(2 C5))
     A = Atil^alpha
-and, when movcomp = 1, the movement compensations eqs 19-20 on an explicit movement clock: for t >= onset (ms)
-    alpha(t) = alpha + alpha1 (1 + tanh((t - onset - alpha2)/alpha3))
-    A = Atil^alpha(t) / ((1 + beta phi(Xm)) (1 + gamma Vm))   if Xm <= xopt and Vm >= 0, else Atil^alpha(t)
-    A >= 1e-3 while eq 19 is active.
+and the movement compensations on an explicit movement clock, each behind its own switch, for t >= onset (ms):
+    movdep = 1 (eq 19):  alpha(t) = alpha + alpha1 (1 + tanh((t - onset - alpha2)/alpha3)), A = Atil^alpha(t),
+                         and A >= Afloor (1e-3) while eq 19 is active
+    lengdiv = 1 (eq 20): A = A / ((1 + beta phi(Xm)) (1 + gamma Vm))   if Xm <= xopt and Vm >= 0
+                         (a non-positive divisor, possible only for phi(Xm) <= -1/beta, gives A = 0, never a
+                         division by zero)
+    Both on is the seed's movement compensation (kim_excitation(movement_compensation=True)).  With
+    alpha(t) = 2, A = Atil*Atil (as in the static case): eq 19 with alpha1 = 0 is bit-identical to it off while
+    A stays above the floor.
 Units: C3, alpha2, alpha3 ms; gamma s/mm; Vm mm/s; Xm mm; phi1, phi3 /mm.
 
 Coupling (documented interface, see neuromuscle/model/kim.py):
@@ -28,7 +33,7 @@ NEURON {
     POINT_PROCESS KimAct
     THREADSAFE
     RANGE C1, C2, C3, C4, C5, alpha, alpha1, alpha2, alpha3, beta, gamma
-    RANGE movcomp, onset, Afloor, unity, use_ports, rest
+    RANGE movdep, lengdiv, onset, Afloor, unity, use_ports, rest
     RANGE A, alpha_t, Ainf, tauA, atil0
     POINTER caspt, xm, vm, T0, phi1, phi2, xopt, tauA_gain
     RANGE T0c, phi1c, phi2c, xoptc
@@ -50,7 +55,8 @@ PARAMETER {
     alpha3 = 160 (ms)
     beta = 0.47 (1)
     gamma = 0.001 (s/mm)
-    movcomp = 0 (1)
+    movdep = 0 (1)
+    lengdiv = 0 (1)
     onset = 1e9 (ms)
     Afloor = 0.001 (1)
     atil0 = 0 (1)
@@ -125,27 +131,37 @@ PROCEDURE rates() {
 }
 
 PROCEDURE activation() {
-    LOCAL ph, at
+    LOCAL ph, at, dv
     at = atil
     if (at < 0) {
         at = 0
     }
-    if (movcomp && t >= onset) {
+    if (movdep && t >= onset) {
+        : eq 19: alpha rises on the movement clock
         alpha_t = alpha + alpha1*(1 + tanh((t - onset - alpha2)/alpha3))
-        A = pow(at, alpha_t)
-        if (xm <= xoptc && vm >= 0) {
-            ph = phi1c*xm + phi2c
-            A = A/((1 + beta*ph)*(1 + gamma*vm))
-        }
-        if (A < Afloor) {
-            A = Afloor
-        }
     } else {
         alpha_t = alpha
-        if (alpha == 2) {
-            A = at*at
-        } else {
-            A = pow(at, alpha)
+    }
+    if (alpha_t == 2) {
+        A = at*at
+    } else {
+        A = pow(at, alpha_t)
+    }
+    if (lengdiv && t >= onset) {
+        : eq 20: lengthening at or below the optimum
+        if (xm <= xoptc && vm >= 0) {
+            ph = phi1c*xm + phi2c
+            dv = (1 + beta*ph)*(1 + gamma*vm)
+            if (dv > 0) {
+                A = A/dv
+            } else {
+                A = 0
+            }
+        }
+    }
+    if (movdep && t >= onset) {
+        if (A < Afloor) {
+            A = Afloor
         }
     }
 }

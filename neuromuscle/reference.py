@@ -9,7 +9,7 @@ Units as in the mechanisms: ms, M, mm, N, mm/s.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Mapping
+from typing import Callable, Mapping, Sequence
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -23,30 +23,57 @@ _ATOL = np.array([1e-12, 1e-11, 1e-14, 1e-13, 1e-14, 1e-9, 1e-13])
 
 @dataclass
 class ReferenceResult:
-    """t (ms), force (N), A, Atil and the five Ca states (M) on the requested grid."""
+    """t (ms), force (N), A, Atil, the five Ca states (M) and an extension's states (one row each; a
+    StateModulation's) on the requested grid."""
 
     t_ms: np.ndarray
     force_N: np.ndarray
     A: np.ndarray
     atil: np.ndarray
     ca_M: dict[str, np.ndarray]
+    extension_states: np.ndarray | None = None
 
 
 def _phi(x: float, p: ParameterSet) -> float:
     return p["phi1"] * x + p["phi2"] if x <= p["g1"] else p["phi3"] * x + p["phi4"]
 
 
-def activation(atil: float, t: float, x: float, v: float, p: ParameterSet, movcomp: bool,
+def activation(atil: float, t: float, x: float, v: float, p: ParameterSet, movement: tuple[bool, bool],
                onset: float | None) -> float:
-    """A from Atil (eq 8), with eqs 19-20 when movcomp and t >= onset (ms); x mm, v mm/s."""
+    """A from Atil (eq 8), with eq 19 (movement[0]) and eq 20 (movement[1]) when on and t >= onset (ms); x mm,
+    v mm/s.  A is floored at 1e-3 while eq 19 is active; a non-positive eq 20 divisor gives A = 0."""
     at = max(atil, 0.0)
-    if not movcomp or onset is None or t < onset:
-        return at ** p["alpha"]
-    a_t = p["alpha"] + p["alpha1"] * (1.0 + np.tanh((t - onset - p["alpha2"]) / p["alpha3"]))
+    moving = onset is not None and t >= onset
+    eq19, eq20 = (moving and movement[0]), (moving and movement[1])
+    a_t = p["alpha"] + p["alpha1"] * (1.0 + np.tanh((t - onset - p["alpha2"]) / p["alpha3"])) if eq19 \
+        else p["alpha"]
     A = at ** a_t
-    if x <= p["g1"] and v >= 0.0:
-        A /= (1.0 + p["beta"] * _phi(x, p)) * (1.0 + p["gamma"] * v)
-    return max(A, 1e-3)
+    if eq20 and x <= p["g1"] and v >= 0.0:
+        d = (1.0 + p["beta"] * _phi(x, p)) * (1.0 + p["gamma"] * v)
+        A = A / d if d > 0.0 else 0.0
+    return max(A, 1e-3) if eq19 else A
+
+
+@dataclass(frozen=True)
+class Observables:
+    """What an extension's twin reads at time t: activation A (1), length Xm (mm), the played velocity Vm (mm/s),
+    the series-elastic force Fse (N, eq 9) and the parameter set."""
+
+    A: float
+    xm_mm: float
+    vm_mm_s: float
+    fse_N: float
+    params: ParameterSet
+
+
+@dataclass(frozen=True)
+class StateModulation:
+    """An extension's twin with memory: extra states integrated with Modules 1-3 from ``y0``; ``rhs(t, y,
+    obs)`` gives their derivatives (per ms), ``ports[name](t, y, obs)`` the value of a port of NEUTRAL_PORTS."""
+
+    y0: tuple[float, ...]
+    rhs: Callable[[float, np.ndarray, Observables], Sequence[float]]
+    ports: Mapping[str, Callable[[float, np.ndarray, Observables], float]]
 
 
 #: The modulation ports of the mechanisms and their neutral values (an extension's twin supplies functions of t).
@@ -57,17 +84,30 @@ def _port(mod: Mapping[str, Callable[[float], float]], name: str, t: float) -> f
     return float(mod[name](t)) if name in mod else NEUTRAL_PORTS[name]
 
 
+def _ports(mod: Mapping[str, Callable[[float], float]] | StateModulation, t: float, y: np.ndarray,
+           obs: Observables) -> dict[str, float]:
+    """Every port's value at t: an extension's functions of t, or of its extra states y[7:]."""
+    if isinstance(mod, StateModulation):
+        return {**NEUTRAL_PORTS, **{n: float(f(t, y[7:], obs)) for n, f in mod.ports.items()}}
+    return {n: _port(mod, n, t) for n in NEUTRAL_PORTS}
+
+
 def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: LengthTrace,
-         lencomp: bool, movcomp: bool, mod: Mapping[str, Callable[[float], float]]) -> list[float]:
-    CaSR, CaSRCS, CaSP, CaSPB, CaSPT, At, ext = y
-    d = t - spikes[spikes <= t]
-    s = float(np.sum((1.0 - np.exp(-d / p["tau1"])) * np.exp(-d / p["tau2"])))
-    R = _port(mod, "release_gain", t) * CaSR * p["Rmax"] * s
-    c = max(CaSP, 0.0)
-    z = (c * p["K"]) ** 2
-    U = _port(mod, "uptake_gain", t) * p["Umax"] * (z / (1.0 + c * p["K"] + z)) ** 2
+         lencomp: bool, movement: tuple[bool, bool],
+         mod: Mapping[str, Callable[[float], float]] | StateModulation) -> list[float]:
+    CaSR, CaSRCS, CaSP, CaSPB, CaSPT, At, ext = y[:7]
     x = float(np.interp(t, trace.t_ms, trace.xm_mm))
     v = float(np.interp(t, trace.t_ms, trace.velocity_mm_s))  # the played Vm of eq 20
+    A = activation(At, t, x, v, p, movement, trace.onset_ms)
+    F = p["P0"] * p["KSE"] * max(ext, 0.0)
+    obs = Observables(A, x, v, F, p)
+    port = _ports(mod, t, y, obs)
+    d = t - spikes[spikes <= t]
+    s = float(np.sum((1.0 - np.exp(-d / p["tau1"])) * np.exp(-d / p["tau2"])))
+    R = port["release_gain"] * CaSR * p["Rmax"] * s
+    c = max(CaSP, 0.0)
+    z = (c * p["K"]) ** 2
+    U = port["uptake_gain"] * p["Umax"] * (z / (1.0 + c * p["K"] + z)) ** 2
     # the SE sees the length NEURON plays (linear between samples): its exact slope, so that the integral of
     # the muscle's velocity is Xm itself (a sampled velocity would make the SE drift)
     k = min(max(int(np.searchsorted(trace.t_ms, t, side="right")) - 1, 0), trace.t_ms.size - 2)
@@ -79,16 +119,16 @@ def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: Le
     st = K5 * CaSP * (p["T0"] - CaSPT) - K6 * CaSPT
     xt = CaSPT / p["T0"]
     ainf = 0.5 * (1.0 + np.tanh((xt - p["C1"]) / p["C2"]))
-    tau = _port(mod, "tauA_gain", t) * p["C3"] / np.cosh((xt - p["C4"]) / (2.0 * p["C5"]))
-    A = activation(At, t, x, v, p, movcomp, trace.onset_ms)
-    F = p["P0"] * p["KSE"] * max(ext, 0.0)
+    tau = port["tauA_gain"] * p["C3"] / np.cosh((xt - p["C4"]) / (2.0 * p["C5"]))
     Fc = float(force_length(x, p["g1"], p["g2"], p["P0"])) * A
     # the SE extension Xm - XCE (mm) is the state here: it resolves the tiny forces at rest that an
     # absolute CE length (~ -8 mm) would hide below the tolerance
-    return [-sr - R + U, sr, -st - sb + R - U, sb, st, (ainf - At) / tau, (dx - ce_velocity(F, Fc, p)) / 1000.0]
+    extra = list(mod.rhs(t, y[7:], obs)) if isinstance(mod, StateModulation) else []
+    return [-sr - R + U, sr, -st - sb + R - U, sb, st, (ainf - At) / tau, (dx - ce_velocity(F, Fc, p)) / 1000.0,
+            *extra]
 
 
-def _initial_state(p: ParameterSet, trace: LengthTrace, kind: str, lencomp: bool, movcomp: bool) -> np.ndarray:
+def _initial_state(p: ParameterSet, trace: LengthTrace, kind: str, movement: tuple[bool, bool]) -> np.ndarray:
     """y0: seed 001's published state (all SR calcium free, nothing bound, no force), or the resting steady
     state: no sarcoplasmic calcium, the SR's CaSR0 shared with calsequestrin (eq 2 at rest), Atil at its steady
     state for [CaSPT] = 0 (eq 8), and the SE carrying the CE's force at the initial length (eqs 9-12)."""
@@ -100,7 +140,7 @@ def _initial_state(p: ParameterSet, trace: LengthTrace, kind: str, lencomp: bool
     casr = (-b + np.sqrt(b * b + 4.0 * p["K1"] * p["K2"] * p["CaSR0"])) / (2.0 * p["K1"])
     atil = 0.5 * (1.0 + np.tanh((0.0 - p["C1"]) / p["C2"]))
     x0 = float(trace.xm_mm[0])
-    fc = float(force_length(x0, p["g1"], p["g2"], p["P0"])) * activation(atil, 0.0, x0, 0.0, p, movcomp,
+    fc = float(force_length(x0, p["g1"], p["g2"], p["P0"])) * activation(atil, 0.0, x0, 0.0, p, movement,
                                                                             trace.onset_ms)
     return np.array([casr, p["CaSR0"] - casr, 0.0, 0.0, 0.0, atil, fc / (p["P0"] * p["KSE"])])
 
@@ -108,19 +148,28 @@ def _initial_state(p: ParameterSet, trace: LengthTrace, kind: str, lencomp: bool
 def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: LengthTrace | float,
                        duration_ms: float, *, record_dt_ms: float = 0.025, length_compensation: bool = True,
                        movement_compensation: bool = False, rtol: float = 1e-8,
-                       modulation: Mapping[str, Callable[[float], float]] | None = None,
-                       initial_state: str = "rest") -> ReferenceResult:
+                       modulation: Mapping[str, Callable[[float], float]] | StateModulation | None = None,
+                       initial_state: str = "rest", movement_depression: bool | None = None,
+                       lengthening_divisor: bool | None = None) -> ReferenceResult:
     """Integrate the model with scipy Radau from the published initial state (ms, mm, N, M).  ``modulation``
-    maps port names (``NEUTRAL_PORTS``) to functions of t (ms): an extension's twin (its
-    ``reference_modulation``); the output force is the SE force plus force_offset(t) (N)."""
-    mod = dict(modulation or {})
-    unknown = set(mod) - set(NEUTRAL_PORTS)
+    maps port names (``NEUTRAL_PORTS``) to functions of t (ms), or is a ``StateModulation`` whose states are
+    integrated with the model's: an extension's twin (its ``reference_modulation``); the output force is the SE
+    force plus force_offset (N).  Eq 19 and eq 20 each follow ``movement_compensation`` unless
+    ``movement_depression`` / ``lengthening_divisor`` say otherwise."""
+    mod = modulation if isinstance(modulation, StateModulation) else dict(modulation or {})
+    unknown = set(mod.ports if isinstance(mod, StateModulation) else mod) - set(NEUTRAL_PORTS)
     if unknown:
         raise ValueError(f"unknown modulation ports {sorted(unknown)}; known: {sorted(NEUTRAL_PORTS)}")
+    movement = (movement_compensation if movement_depression is None else movement_depression,
+                movement_compensation if lengthening_divisor is None else lengthening_divisor)
     trace = length if isinstance(length, LengthTrace) else LengthTrace.isometric(float(length), duration_ms)
     spikes = np.asarray(spikes_ms, dtype=float)
     p = params
-    y0 = _initial_state(p, trace, initial_state, length_compensation, movement_compensation)
+    y0 = _initial_state(p, trace, initial_state, movement)
+    atol = _ATOL
+    if isinstance(mod, StateModulation):
+        y0 = np.concatenate([y0, np.asarray(mod.y0, dtype=float)])
+        atol = np.concatenate([_ATOL, np.full(len(mod.y0), 1e-10)])
     t_eval = np.arange(0.0, duration_ms + 0.5 * record_dt_ms, record_dt_ms)
     # integrate piecewise between spikes so the solver never steps across a release onset
     edges = np.unique(np.concatenate([[0.0], spikes[(spikes > 0) & (spikes < duration_ms)], [duration_ms]]))
@@ -130,8 +179,8 @@ def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: Leng
         sel = t_eval[(t_eval >= a) & (t_eval < b)] if b < duration_ms else t_eval[t_eval >= a]
         # integrate to b itself: the next segment starts from the state at b, not at the last sample before it
         ask = sel if sel.size and sel[-1] >= b else np.append(sel, b)
-        sol = solve_ivp(_rhs, (a, b), y, method="Radau", rtol=rtol, atol=_ATOL, t_eval=ask, max_step=1.0,
-                        args=(p, spikes, trace, length_compensation, movement_compensation, mod))
+        sol = solve_ivp(_rhs, (a, b), y, method="Radau", rtol=rtol, atol=atol, t_eval=ask, max_step=1.0,
+                        args=(p, spikes, trace, length_compensation, movement, mod))
         if sol.status != 0:
             raise RuntimeError(f"reference integration failed on {a}..{b} ms: {sol.message}")
         ys.append(sol.y[:, :sel.size])
@@ -141,8 +190,9 @@ def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: Leng
     t = np.concatenate(ts)
     x = trace.at(t)
     v = trace.velocity_at(t)
-    A = np.array([activation(a, ti, xi, vi, p, movement_compensation, trace.onset_ms)
-                  for a, ti, xi, vi in zip(Y[5], t, x, v)])
-    F = p["P0"] * p["KSE"] * np.maximum(Y[6], 0.0) + np.array([_port(mod, "force_offset", ti) for ti in t])
+    A = np.array([activation(a, ti, xi, vi, p, movement, trace.onset_ms) for a, ti, xi, vi in zip(Y[5], t, x, v)])
+    fse = p["P0"] * p["KSE"] * np.maximum(Y[6], 0.0)
+    F = fse + np.array([_ports(mod, ti, Y[:, i], Observables(A[i], x[i], v[i], fse[i], p))["force_offset"]
+                        for i, ti in enumerate(t)])
     names = ("CaSR", "CaSRCS", "CaSP", "CaSPB", "CaSPT")
-    return ReferenceResult(t, F, A, Y[5], {n: Y[i] for i, n in enumerate(names)})
+    return ReferenceResult(t, F, A, Y[5], {n: Y[i] for i, n in enumerate(names)}, Y[7:])

@@ -25,10 +25,10 @@ from dataclasses import replace
 from typing import Any, Mapping, Sequence
 
 import numpy as np
-from scipy.signal import lfilter
 from scipy.stats import binomtest
 
 from ..errors import InputError
+from ..fit.synthetic import ar1_noise
 from ..measured import Trial
 from ..parameters import ParameterSet
 from .fit import MODULE2_SETTLE_MS, module2_protocol
@@ -56,15 +56,6 @@ def reference_module2_set(params: ParameterSet) -> list[Trial]:
                             force=np.interp(t_ms, ref.t_ms, ref.force_N), force_unit="N", length_unit="mm",
                             length_const=params["g1"], stimulus_times_s=stims))
     return trials
-
-
-def ar1_noise(n: int, sd_N: float, tau_ms: float, sample_ms: float, rng: np.random.Generator) -> np.ndarray:
-    """n samples (every sample_ms, ms) of stationary AR(1) noise with marginal sd sd_N (N) and correlation time
-    tau_ms (ms; lag-1 correlation exp(-sample_ms / tau_ms); 0: white)."""
-    phi = float(np.exp(-sample_ms / tau_ms)) if tau_ms > 0 else 0.0
-    x = sd_N * rng.standard_normal(n)
-    x[1:] *= np.sqrt(1.0 - phi * phi)
-    return lfilter([1.0], [1.0, -phi], x)
 
 
 def fit_draw(base: ParameterSet, clean: Sequence[Trial], draw: int, seed: int, noise_N: float, tau_ms: float,

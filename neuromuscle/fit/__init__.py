@@ -22,10 +22,10 @@ from .objectives import OBJECTIVES
 from .optimizers import LMResult, levenberg_marquardt
 from .problem import FitProblem
 from .run import METHODS, FitResult, fit
-from .synthetic import synthetic_trial
+from .synthetic import ar1_noise, synthetic_trial
 from .uncertainty import COVARIANCES, Rules, Uncertainty, describe_method, estimate_uncertainty
 
 __all__ = ["CHECKPOINT_SCHEMA", "COVARIANCES", "INTERVAL_METHODS", "METHODS", "OBJECTIVES", "FitProblem",
-           "FitResult", "LMResult", "Rules", "SimulationOptions", "Uncertainty", "describe_method",
+           "FitResult", "LMResult", "Rules", "SimulationOptions", "Uncertainty", "ar1_noise", "describe_method",
            "estimate_uncertainty", "fit", "fit_uncertainty", "levenberg_marquardt", "read_checkpoint",
            "synthetic_trial", "trial_simulation"]

@@ -25,6 +25,7 @@ from ..protocols import LengthTrace
 from ..measured import Trial
 from ..parameters import ParameterSet
 from ..model.kim import kim_excitation
+from ..model.unit import Model
 from ..sim import simulate
 
 if TYPE_CHECKING:
@@ -59,12 +60,14 @@ def check_trial_units(trial: Trial) -> None:
 def trial_simulation(params: ParameterSet, trial: Trial, dt_ms: float = 0.05, *,
                      record_dt_ms: float | None = None, settle_ms: float = 500.0,
                      length_compensation: bool = True, movement_compensation: bool = False,
-                     extensions: tuple[str, ...] = ()) -> np.ndarray:
+                     extensions: tuple[str, ...] = (), excitation: Model = None,
+                     contraction: Model = None) -> np.ndarray:
     """Simulated force (N) of a measured trial at the trial's own time points (``trial.time_s``, s).
 
     The trial's time_s[0] is placed at settle_ms (ms) of simulated time; the length (constant or played) is
     held at its first value before that.  Stimulus times (s) are converted to ms on the same clock.
     extensions: canonical names of catalogue extensions to switch on, valued from ``params``.
+    excitation/contraction: as ``MuscleUnit`` (default: Kim Modules 1-2 with the two switches, Module 3).
     """
     check_trial_units(trial)
     if not np.isfinite(settle_ms) or settle_ms < 0:
@@ -84,7 +87,8 @@ def trial_simulation(params: ParameterSet, trial: Trial, dt_ms: float = 0.05, *,
         length = float(x[0]) if np.all(x == x[0]) else LengthTrace(lt, lx, name=f"trial {trial.trial_id}")
     rec = dt_ms if record_dt_ms is None else record_dt_ms
     res = simulate(params, spikes_ms, length, duration_ms, dt_ms=dt_ms, record_dt_ms=rec, record=("force.F",),
-                   excitation=kim_excitation(length_compensation, movement_compensation),
+                   excitation=kim_excitation(length_compensation, movement_compensation) if excitation is None
+                   else excitation, contraction=contraction,
                    extensions={name: {} for name in extensions} or None)
     return np.interp(t_ms, res.t_ms, res.force_N)
 

@@ -1,4 +1,4 @@
-"""Synthetic measured trials: a trial simulated from known parameters, plus Gaussian noise.
+"""Synthetic measured trials: a trial simulated from known parameters, plus Gaussian or AR(1) noise.
 
 The data of the package's example file (:mod:`neuromuscle.measured.example`), of ``neuromuscle bench fit`` and of
 the tests: the simulation is :func:`.evaluate.trial_simulation`, so a fit with the same options sees the model
@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Any, Sequence
 
 import numpy as np
+from scipy.signal import lfilter
 
 from ..errors import InputError
 from ..measured import Trial
@@ -36,3 +37,12 @@ def synthetic_trial(params: ParameterSet, trial_id: str, time_s: np.ndarray, sti
         force = force + rng.normal(0.0, noise_N, force.size)
     tr.force = force
     return tr
+
+
+def ar1_noise(n: int, sd_N: float, tau_ms: float, sample_ms: float, rng: np.random.Generator) -> np.ndarray:
+    """n samples (every sample_ms, ms) of stationary AR(1) noise with marginal sd sd_N (N) and correlation time
+    tau_ms (ms; lag-1 correlation exp(-sample_ms / tau_ms); 0: white), as force transducers give."""
+    phi = float(np.exp(-sample_ms / tau_ms)) if tau_ms > 0 else 0.0
+    x = sd_N * rng.standard_normal(n)
+    x[1:] *= np.sqrt(1.0 - phi * phi)
+    return lfilter([1.0], [1.0, -phi], x)

@@ -83,8 +83,9 @@ class KimCalcium(Component):
 
 
 class KimActivation(Component):
-    """Module 2 (KimAct): troponin-bound Ca2+ -> activation A, eq 8, and the movement compensations eqs 19-20.
-    Reads T0, phi1, phi2 and xopt from KimCa."""
+    """Module 2 (KimAct): troponin-bound Ca2+ -> activation A, eq 8, and the movement compensations eqs 19-20,
+    each behind its own switch (``movement_depression``: eq 19; ``lengthening_divisor``: eq 20; the seed's
+    movement compensation is both).  Reads T0, phi1, phi2 and xopt from KimCa."""
 
     suffix = "KimAct"
     namespace = "kim_m2"
@@ -117,13 +118,26 @@ class KimActivation(Component):
 
     def __init__(self, movement_compensation: bool = False, **overrides: float) -> None:
         super().__init__(**overrides)
-        self.movement_compensation = bool(movement_compensation)
+        self.movement_depression = bool(movement_compensation)  # eq 19
+        self.lengthening_divisor = bool(movement_compensation)  # eq 20
+
+    @property
+    def movement_compensation(self) -> bool:
+        """The seed's movement compensation: eqs 19 and 20 both on."""
+        return self.movement_depression and self.lengthening_divisor
+
+    @property
+    def uses_movement_clock(self) -> bool:
+        """True when eq 19 or eq 20 is on: A changes at the movement onset (a CVODE event there)."""
+        return self.movement_depression or self.lengthening_divisor
 
     def switches(self) -> dict[str, bool]:
-        return {"movement_compensation": self.movement_compensation}
+        return {"movement_compensation": self.movement_compensation, "eq19_movement_depression":
+                self.movement_depression, "eq20_lengthening_divisor": self.lengthening_divisor}
 
     def configure(self, params: Mapping[str, float] | None) -> None:
-        self.obj.movcomp = 1.0 if self.movement_compensation else 0.0
+        self.obj.movdep = 1.0 if self.movement_depression else 0.0
+        self.obj.lengdiv = 1.0 if self.lengthening_divisor else 0.0
 
     def set_movement_onset(self, onset_ms: float | None) -> None:
         """Start eq 19's movement clock at onset_ms (ms); None: the muscle never moves."""
@@ -154,7 +168,7 @@ class KimForce(Component):
         Port("xm", "mm", "length.xm"),
         Port("force_offset", "N", None, "zero"),
     )
-    exposes = {"F": "N", "Fse": "N", "Fc": "N", "vce": "mm/s", "nasym": "1"}
+    exposes = {"F": "N", "Fse": "N", "Fc": "N", "vce": "mm/s", "nasym": "1", "P0": "N", "KSE": "1/mm"}
     states = (State("xce", "mm", 1e-6),)
 
     def input_warnings(self, trace: Any, params: Mapping[str, float] | None) -> list[str]:

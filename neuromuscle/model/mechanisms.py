@@ -31,7 +31,7 @@ def required_mechanisms() -> tuple[str, ...]:
     """POINT_PROCESS names the package needs: one per registered component (extensions included)."""
     from . import extensions, hatze, kim, length
 
-    comps = (*kim.COMPONENTS, *hatze.COMPONENTS, length.MuscleLength, *extensions.registry().values())
+    comps = (*kim.COMPONENTS, *hatze.COMPONENTS, length.MuscleLength, *extensions.mechanism_extensions())
     return tuple(c.suffix for c in comps)
 
 

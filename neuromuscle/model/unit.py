@@ -107,6 +107,8 @@ class MuscleUnit:
             comp.instantiate(seg, params)
             self.components[slot] = comp
         self._wire(exts)
+        for ext in exts.values():
+            ext.attach(self.components, params)  # a switch extension turns its baseline equation on
         if initial_state not in INITIAL_STATES:
             raise InputError(f"{name}: initial_state must be one of {', '.join(INITIAL_STATES)}, got {initial_state!r}")
         self.initial_state = initial_state
@@ -138,7 +140,8 @@ class MuscleUnit:
             modulated = False
             for port in comp.reads:
                 key = f"{slot}.{port.name}"
-                modulated |= key in driven
+                # a modulation port counts as driven when an extension targets it or its component names a source
+                modulated |= key in driven or (port.neutral is not None and port.source is not None)
                 source = driven.pop(key, port.source)
                 if source is None:
                     ref = comp.ref(port.neutral)  # an unused modulation port: the mechanism's neutral value
@@ -146,7 +149,7 @@ class MuscleUnit:
                     ref = self.ref(source)
                 setattr(comp.obj, f"_ref_{port.name}", ref)
             if modulated:
-                comp.obj.use_ports = 1.0  # the mechanism reads its ports only when an extension drives one
+                comp.obj.use_ports = 1.0  # the mechanism reads its ports only when something drives one
         if driven:
             raise InputError(f"{self.name}: extension targets {sorted(driven)} name no port of this unit")
 

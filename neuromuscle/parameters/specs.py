@@ -86,7 +86,8 @@ def registry() -> Registry:
 
     specs: dict[str, ParameterSpec] = {}
     aliases: dict[str, str] = {}
-    for comp in (*kim.COMPONENTS, *hatze.COMPONENTS, *extensions.registry().values()):
+    # a switch extension (eq 18-20) declares no parameters of its own: it borrows its owner's, registered here
+    for comp in (*kim.COMPONENTS, *hatze.COMPONENTS, *extensions.mechanism_extensions()):
         for p in comp.parameters:
             q = comp.qualified(p.name)
             specs[q] = ParameterSpec(q, p.unit, p.default, p.lower, p.upper, p.doc, p.source, comp.__name__,

@@ -92,7 +92,7 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
     for comp in unit.components.values():
         if trace.onset_ms is not None and hasattr(comp, "set_movement_onset"):
             comp.set_movement_onset(trace.onset_ms)
-            if getattr(comp, "movement_compensation", False):
+            if getattr(comp, "uses_movement_clock", False):
                 movement_events.append(trace.onset_ms)
     tvec, xvec, vvec = h.Vector(trace.t_ms), h.Vector(trace.xm_mm), h.Vector(trace.velocity_mm_s)
     unit.length.xm = float(trace.xm_mm[0])

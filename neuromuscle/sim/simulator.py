@@ -58,7 +58,7 @@ def _registered_states() -> list[tuple[str, float]]:
     """(``"Suffix.state"``, atolscale) for every state of every registered component."""
     from ..model import extensions, hatze, kim
 
-    comps = (*kim.COMPONENTS, *hatze.COMPONENTS, *extensions.registry().values())
+    comps = (*kim.COMPONENTS, *hatze.COMPONENTS, *extensions.mechanism_extensions())
     return [(f"{c.suffix}.{s.name}", s.atolscale) for c in comps for s in c.states]
 
 

@@ -5,16 +5,24 @@ canonical ``name``: it is found here by scanning the folder, so nothing else is 
 or more modulation ports of the baseline mechanisms (``targets``: ``{"ca.release_gain": "gain"}`` wires KimCa's
 POINTER release_gain to the extension's RANGE gain) and may receive the unit's spikes.  Switched off (absent),
 each port points at its mechanism's own neutral value and the unit is bit-identical to the baseline.
+
+A ``SwitchExtension`` has no mechanism of its own: it switches on an equation of a baseline mechanism (eq 18 in
+KimCa, eq 19 or eq 20 in KimAct) and its parameters are that mechanism's own (``kim_m1.phi1``...), declared
+again with the values at which the equation does nothing (``neutral``).  Selecting one turns on exactly its
+equation whatever the baseline's switches; parameters given to it replace the baseline's values, the others
+keep them.  If the baseline already has the equation on (``kim_excitation(length_compensation=True)``), selecting
+it changes nothing but the parameters given: the equation is applied once, never twice.
 """
 
 from __future__ import annotations
 
 import importlib
 import pkgutil
-from typing import ClassVar, Mapping
+from dataclasses import replace
+from typing import Any, ClassVar, Mapping
 
 from ...errors import InputError
-from ..component import Component
+from ..component import Component, Param
 
 
 class Extension(Component):
@@ -22,6 +30,47 @@ class Extension(Component):
 
     name: ClassVar[str]
     targets: ClassVar[Mapping[str, str]] = {}
+
+    def attach(self, components: Mapping[str, Component], params: Mapping[str, float] | None) -> None:
+        """Called by the unit once every component is built (a mechanism extension needs nothing here)."""
+
+
+class SwitchExtension(Extension):
+    """An equation of a baseline mechanism switched on, with that mechanism's parameters (no mod file).
+
+    ``slot``/``owner``: the baseline component (e.g. "ca", KimCalcium); ``switch``: its boolean attribute
+    (re-applied by its ``configure``); ``parameters``: the owner's own parameters with neutral values
+    (``borrow``), so their qualified names are the owner's (a fit of the extension varies ``kim_m1.phi1``)."""
+
+    suffix = ""
+    slot: ClassVar[str]
+    owner: ClassVar[type[Component]]
+    switch: ClassVar[str]
+
+    @classmethod
+    def borrow(cls, owner: type[Component], neutral: Mapping[str, float | None]) -> tuple[Param, ...]:
+        """``owner``'s parameters named in ``neutral``, with those neutral values (same unit, bounds, source)."""
+        return tuple(replace(owner.param(name), neutral=value) for name, value in neutral.items())
+
+    def instantiate(self, seg: Any, params: Mapping[str, float] | None) -> Any:
+        """Nothing to build: the equation lives in the owner's mechanism."""
+        self.obj = None
+        return None
+
+    def attach(self, components: Mapping[str, Component], params: Mapping[str, float] | None) -> None:
+        """Switch the owner's equation on and set the parameters given to this extension on its mechanism."""
+        comp = components.get(self.slot)
+        if not isinstance(comp, self.owner):
+            found = type(comp).__name__ if comp is not None else "nothing"
+            raise InputError(f"extension {self.name!r} switches an equation of {self.owner.__name__} (slot "
+                             f"{self.slot!r}); this unit has {found} there: use the Kim excitation")
+        setattr(comp, self.switch, True)
+        comp.configure(params)
+        for name, value in self.overrides.items():
+            setattr(comp.obj, name, value)
+
+    def switches(self) -> dict[str, Any]:
+        return {"switches": f"{self.slot}.{self.switch}", "parameters": dict(self.overrides)}
 
 
 def registry() -> dict[str, type[Extension]]:
@@ -34,6 +83,11 @@ def registry() -> dict[str, type[Extension]]:
                     getattr(obj, "name", None):
                 found[obj.name] = obj
     return found
+
+
+def mechanism_extensions() -> list[type[Extension]]:
+    """The registered extensions that are mechanisms of their own (a POINT_PROCESS in mod/)."""
+    return [e for e in registry().values() if e.suffix]
 
 
 def make_extensions(spec: Mapping[str, Mapping[str, float]] | None) -> dict[str, Extension]:

@@ -1,0 +1,24 @@
+"""Extension "length_dependent_activation": seed 001's eq 18 switched on in KimCa (no mod file of its own).
+
+Equation (Xm mm, K5 1/(M ms)):  K5 = phi(Xm) K5i,  phi(Xm) = phi1 Xm + phi2 for Xm <= X_opt (= g1), else
+phi3 Xm + phi4.  Parameters are KimCa's own (qualified ``kim_m1.phi1`` ...): phi1, phi3 in 1/mm within
+[-0.5, 0.5], phi2, phi4 (1) within [-10, 10] (``_EQ18`` in neuromuscle/model/kim.py); CT09 0.03, 1.23, 0.01, 1.08.
+Neutral: phi1 = phi3 = 0, phi2 = phi4 = 1 (phi = 1: K5 = K5i, bit-identical to eq 18 off).  Selecting it sets
+KimCa.lencomp = 1 and the values given; KimAct's eq 20 reads the same phi1, phi2 (one fact, in KimCa).
+"""
+
+from __future__ import annotations
+
+from ..kim import KimCalcium
+from . import SwitchExtension
+
+
+class LengthDependentActivation(SwitchExtension):
+    """Activation, not only force, depends on length: troponin binding K5 scaled by phi(Xm) (eq 18)."""
+
+    name = "length_dependent_activation"
+    namespace = KimCalcium.namespace
+    slot = "ca"
+    owner = KimCalcium
+    switch = "length_compensation"
+    parameters = SwitchExtension.borrow(KimCalcium, {"phi1": 0.0, "phi2": 1.0, "phi3": 0.0, "phi4": 1.0})

@@ -1,0 +1,151 @@
+"""The standard protocol set of one synthetic preparation: what each trial is, on the trial's clock (s).
+
+Lengths are set relative to the preparation's optimum (as an experimenter sets them after a length-tension scan):
+"optimal" at the optimum, "short" SHORT_MM below it, "long" LONG_MM above it.  Every stimulated trial starts with
+PRE_S of rest before its first stimulus.  26 trials, about 65 s of simulated time in all (``total_duration_s``):
+
+* twitches at the three lengths; 10 and 40 Hz trains (1 s) at the three lengths; 3 Hz (4 s), 20 Hz (1 s) and
+  100 Hz (0.5 s) trains at the optimum;
+* doublets: a 10 Hz train (1 s) at the optimum whose first stimulus is followed by one more 5, 10 or 15 ms later;
+* a long 40 Hz train (12 s) at the optimum (fatigue);
+* potentiation: three twitches 1 s apart, a 100 Hz conditioning train (1 s), four twitches 2 s apart;
+* isokinetic ramps between short and optimal, lengthening and shortening, during a 10 Hz (10 mm/s) or a 40 Hz
+  (20 mm/s) train;
+* stretch-hold (optimal -> long) and shortening-hold (long -> optimal) at 20 mm/s during a 40 Hz train (2.5 s);
+* random length (band 2 Hz, between short and long, fixed seeds) during 10 and 20 Hz trains (4 s);
+* a 0.5 mm step shortening in 0.5 ms during a 100 Hz train (the series-elastic stiffness), sampled at 10 kHz.
+
+The sampling interval is SAMPLE_S (1 kHz) except for the step.  Trial attributes say what each trial is:
+``kind`` (as ``protocol``), ``rate_hz``, ``length_label`` or ``lengths``, ``doublet_isi_ms``, ``velocity_mm_s``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..protocols import isokinetic_ramp, random_length, step_shortening
+
+SAMPLE_S = 0.001
+STEP_SAMPLE_S = 0.0001
+PRE_S = 0.1
+POST_S = 0.4
+SHORT_MM = 6.0
+LONG_MM = 5.0
+#: Seeds of the random-length trials: part of the standard protocol, the same in every preparation.
+RANDOM_LENGTH_SEEDS = {10: 11, 20: 12}
+
+
+@dataclass(frozen=True)
+class PlannedTrial:
+    """One trial of the protocol set: id, protocol, duration (s), stimulus times (s), and either a constant
+    length (mm) or a sampled one (mm, at ``time_s``); ``attrs`` are written into the trial group."""
+
+    trial_id: str
+    protocol: str
+    time_s: np.ndarray
+    stimulus_times_s: np.ndarray
+    length_mm: float | None = None
+    length_trace_mm: np.ndarray | None = None
+    attrs: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def duration_s(self) -> float:
+        return float(self.time_s[-1])
+
+
+def _train(rate_hz: float, duration_s: float, start_s: float = PRE_S) -> np.ndarray:
+    n = int(round(duration_s * rate_hz))
+    return start_s + np.arange(n) / rate_hz
+
+
+def _clock(duration_s: float, sample_s: float = SAMPLE_S) -> np.ndarray:
+    return np.arange(int(round(duration_s / sample_s)) + 1) * sample_s
+
+
+def _isometric(tid: str, protocol: str, stims: np.ndarray, x_mm: float, label: str, **attrs: Any) -> PlannedTrial:
+    end = float(stims[-1]) + POST_S
+    return PlannedTrial(tid, protocol, _clock(end), stims, length_mm=x_mm,
+                        attrs={"kind": protocol, "length_label": label, **attrs})
+
+
+def _moving(tid: str, protocol: str, stims: np.ndarray, t_s: np.ndarray, x_mm: np.ndarray,
+            **attrs: Any) -> PlannedTrial:
+    return PlannedTrial(tid, protocol, t_s, stims, length_trace_mm=x_mm, attrs={"kind": protocol, **attrs})
+
+
+def standard_protocols(optimum_mm: float) -> list[PlannedTrial]:
+    """The standard protocol set around the preparation's optimum ``optimum_mm`` (mm)."""
+    opt = float(optimum_mm)
+    lengths = {"short": opt - SHORT_MM, "opt": opt, "long": opt + LONG_MM}
+    labels = {"short": "short", "opt": "optimal", "long": "long"}
+    trials: list[PlannedTrial] = []
+    for key, x in lengths.items():
+        trials.append(_isometric(f"twitch_{key}", "twitch", np.array([PRE_S]), x, labels[key], rate_hz=0.0))
+    for rate, dur in ((3, 4.0), (10, 1.0), (20, 1.0), (40, 1.0), (100, 0.5)):
+        trials.append(_isometric(f"train{rate}_opt", "train", _train(rate, dur), opt, "optimal", rate_hz=rate))
+    for key in ("short", "long"):
+        for rate in (10, 40):
+            trials.append(_isometric(f"train{rate}_{key}", "train", _train(rate, 1.0), lengths[key], labels[key],
+                                     rate_hz=rate))
+    for isi in (5, 10, 15):
+        stims = np.sort(np.concatenate([_train(10, 1.0), [PRE_S + isi / 1000.0]]))
+        trials.append(_isometric(f"doublet{isi}_opt", "doublet", stims, opt, "optimal", rate_hz=10,
+                                 doublet_isi_ms=float(isi)))
+    trials.append(_isometric("long_train40_opt", "long_train", _train(40, 12.0), opt, "optimal", rate_hz=40))
+    pap = np.concatenate([PRE_S + np.arange(3.0), _train(100, 1.0, PRE_S + 3.0), PRE_S + 5.0 + 2.0 * np.arange(4)])
+    trials.append(_isometric("potentiation_opt", "potentiation", pap, opt, "optimal", rate_hz=100,
+                             twitch_times_s=np.concatenate([pap[:3], pap[-4:]])))
+    trials += _ramps(lengths) + _holds(lengths) + _random(lengths) + [_step(opt)]
+    return trials
+
+
+def _ramps(lengths: dict[str, float]) -> list[PlannedTrial]:
+    out = []
+    for rate, speed in ((10, 10.0), (40, 20.0)):
+        ramp_s = (lengths["opt"] - lengths["short"]) / speed
+        stim_s = 0.5 + ramp_s + 0.5
+        t = _clock(PRE_S + stim_s + POST_S)
+        for direction, (a, b) in (("lengthen", ("short", "opt")), ("shorten", ("opt", "short"))):
+            trace = isokinetic_ramp(lengths[a], lengths[b], speed, (PRE_S + 0.4) * 1000.0, t[-1] * 1000.0)
+            out.append(_moving(f"ramp_{direction}{rate}", "isokinetic", _train(rate, stim_s), t,
+                               trace.at(t * 1000.0), rate_hz=rate, velocity_mm_s=speed if direction == "lengthen"
+                               else -speed, lengths=f"{a} -> {b}"))
+    return out
+
+
+def _holds(lengths: dict[str, float]) -> list[PlannedTrial]:
+    out = []
+    speed = 20.0
+    t = _clock(PRE_S + 2.5 + POST_S)
+    for tid, protocol, (a, b) in (("stretch_hold40", "stretch_hold", ("opt", "long")),
+                                  ("shorten_hold40", "shorten_hold", ("long", "opt"))):
+        trace = isokinetic_ramp(lengths[a], lengths[b], speed, (PRE_S + 0.5) * 1000.0, t[-1] * 1000.0)
+        out.append(_moving(tid, protocol, _train(40, 2.5), t, trace.at(t * 1000.0), rate_hz=40,
+                           velocity_mm_s=speed if b == "long" else -speed, lengths=f"{a} -> {b}"))
+    return out
+
+
+def _random(lengths: dict[str, float]) -> list[PlannedTrial]:
+    out = []
+    t = _clock(PRE_S + 4.0 + POST_S)
+    for rate, seed in RANDOM_LENGTH_SEEDS.items():
+        trace = random_length(t[-1] * 1000.0, seed, centre_mm=lengths["opt"], low_mm=lengths["short"],
+                              high_mm=lengths["long"], band_hz=2.0, sample_rate_hz=1000.0)
+        out.append(_moving(f"random_length{rate}", "random_length", _train(rate, 4.0), t, trace.at(t * 1000.0),
+                           rate_hz=rate, length_seed=seed))
+    return out
+
+
+def _step(opt: float) -> PlannedTrial:
+    t = _clock(0.2, STEP_SAMPLE_S)
+    trace = step_shortening(opt, 0.5, 150.0, t[-1] * 1000.0, ramp_ms=0.5, sample_ms=STEP_SAMPLE_S * 1000.0)
+    return _moving("step100", "step", np.arange(0.0, 0.2, 0.01), t, trace.at(t * 1000.0), rate_hz=100,
+                   step_mm=0.5)
+
+
+def total_duration_s(trials: list[PlannedTrial]) -> float:
+    """Simulated time of the protocol set (s), settling excluded."""
+    return float(sum(t.duration_s for t in trials))
