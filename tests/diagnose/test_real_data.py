@@ -132,3 +132,15 @@ def test_baseline_trials_rule_by_trial_kind() -> None:
     assert baseline_trials(data, ["tet", "ramp"]) == ("tetanic", ["tet"])
     with pytest.raises(InputError, match="isometric and stimulated"):
         baseline_trials(data, ["ramp"])
+
+
+@needs_real_data
+def test_diagnosis_script_refuses_an_unknown_heldout_figure(converted: Path, tmp_path: Path) -> None:
+    """networks/herzog_leonard_diagnosis.py (the full run takes ~15 min: the README quotes it; the baseline test
+    above is its reduced form) names a held-out figure that no trial comes from, writes nothing, exits 2."""
+    out = tmp_path / "report"
+    run = subprocess.run([sys.executable, str(ROOT / "networks" / "herzog_leonard_diagnosis.py"), "--out", str(out),
+                          "--data", str(converted), "--heldout-figure", "Figure9"],
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 2 and "Figure9" in run.stderr
+    assert not out.exists() or not any(out.iterdir())
