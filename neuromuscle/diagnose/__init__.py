@@ -9,6 +9,6 @@ a catalogue extension fitted on calibration trials), ``verdict`` (step 5: the de
 """
 
 from .diagnosis import Diagnosis, diagnose_data
-from .report import REPORT_FILES, SCHEMA, run_diagnosis
+from .report import REPORT_FILES, SCHEMA, run_diagnosis, write_report
 
-__all__ = ["Diagnosis", "REPORT_FILES", "SCHEMA", "diagnose_data", "run_diagnosis"]
+__all__ = ["Diagnosis", "REPORT_FILES", "SCHEMA", "diagnose_data", "run_diagnosis", "write_report"]

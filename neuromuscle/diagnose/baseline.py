@@ -4,7 +4,13 @@ The baseline is Modules 1-3 with eq 18 and eqs 19-20 switched off (the length an
 candidates, not baseline).  Calibration (``calibrate_baseline``), reusing :mod:`neuromuscle.calibration`, uses the
 calibration trials of the seed's kind: isometric twitches and short trains (stimuli spanning at most
 ``MAX_TRAIN_S`` = 0.5 s); longer trains and moving trials calibrate only the candidate extensions (so a slow
-effect, e.g. fatigue, does not bend the baseline):
+effect, e.g. fatigue, does not bend the baseline).  When no calibration trial is of the seed's kind (e.g. a
+preparation recorded only as long constant-rate tetani, as in stretch experiments), the isometric stimulated
+calibration trials of any train length calibrate instead, and only step 2 runs (the seed's Module 2 stage needs
+twitches or sub-tetanic trains; at one rate, Module 2's rate dependence is not identified, only the time course
+of the tetanus' rise and fall and, with P0, its plateau).  Moving trials never calibrate the baseline: a
+force-velocity or series-elastic fit to stretch-hold trials would absorb history effects (a steep eccentric
+branch holds force after a stretch).
 
 1. the seed's staged calibration (Module 3 from force-length / force-velocity points and a step when the file
    has them; Module 2 (C1, C2, C3, alpha) on isometric trials at the optimum; the eq 18 stage off).  When no
@@ -28,7 +34,7 @@ import numpy as np
 from ..analysis.metrics import nrmse_percent
 from ..calibration import MODULE2_FREE, StageResult, calibrate_module2, staged_calibration
 from ..calibration.staged import FORCE_LENGTH_PATH
-from ..calibration.trials import isometric_length
+from ..calibration.trials import OPTIMUM_TOLERANCE_MM, isometric_length
 from ..errors import InputError
 from ..fit import FitProblem, SimulationOptions, fit, trial_simulation
 from ..measured import MeasuredData, Trial
@@ -39,6 +45,9 @@ OPTIONS = SimulationOptions(dt_ms=DT_MS, record_dt_ms=0.5, settle_ms=300.0, leng
                             movement_compensation=False)
 #: Longest stimulus train (s) used to calibrate the baseline.
 MAX_TRAIN_S = 0.5
+#: Module 2 parameters held at their base values when the baseline is calibrated from tetani at a single rate
+#: (they set the plateau's activation at that rate, which only P0 x A is seen of).
+TETANIC_ONE_RATE_FIXED = ("C1", "C2")
 #: Fewest calibration and held-out trials a diagnosis accepts.
 MIN_CALIBRATION, MIN_HELDOUT = 4, 2
 
@@ -95,12 +104,42 @@ def _seed_kind(t: Trial) -> bool:
     return isometric_length(t) is not None and s.size >= 1 and float(s.max() - s.min()) <= MAX_TRAIN_S
 
 
+def _stimulated_isometric(t: Trial) -> bool:
+    """An isometric trial with at least one stimulus (any train length)."""
+    return isometric_length(t) is not None and np.size(t.stimulus_times_s) >= 1
+
+
+def baseline_trials(data: MeasuredData, calibration: Sequence[str]) -> tuple[str, list[str]]:
+    """Which calibration trials calibrate the baseline, and the kind: ("seed", the isometric twitches and short
+    trains) when there are any, else ("tetanic", every isometric stimulated trial); InputError with neither."""
+    seed = [i for i in calibration if _seed_kind(data.trials[i])]
+    if seed:
+        return "seed", seed
+    tetani = [i for i in calibration if _stimulated_isometric(data.trials[i])]
+    if tetani:
+        return "tetanic", tetani
+    raise InputError(f"no calibration trial is isometric and stimulated (a twitch, a train or a tetanus at one "
+                     f"length): the baseline cannot be calibrated (calibration trials: {', '.join(calibration)})")
+
+
 def _isometric(trials: Sequence[Trial]) -> dict[float, list[Trial]]:
+    """Isometric trials grouped by length (mm): lengths within OPTIMUM_TOLERANCE_MM of a group's first (shortest)
+    length are one length (measured lengths scatter by the transducer's noise)."""
     out: dict[float, list[Trial]] = {}
+    for x, t in sorted(((isometric_length(t), t) for t in trials if isometric_length(t) is not None),
+                       key=lambda p: p[0]):
+        key = next((k for k in out if abs(x - k) <= OPTIMUM_TOLERANCE_MM), round(x, 6))
+        out.setdefault(key, []).append(t)
+    return out
+
+
+def _rates_hz(trials: Sequence[Trial]) -> set[float]:
+    """The distinct mean stimulation rates (Hz, to 1 Hz) of trials with two stimuli or more."""
+    out = set()
     for t in trials:
-        x = isometric_length(t)
-        if x is not None:
-            out.setdefault(round(x, 6), []).append(t)
+        s = np.sort(np.asarray(t.stimulus_times_s, dtype=float))
+        if s.size >= 2 and s[-1] > s[0]:
+            out.add(round((s.size - 1) / (s[-1] - s[0])))
     return out
 
 
@@ -114,20 +153,22 @@ def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: Par
                        max_iterations: int = 12) -> Baseline:
     """Calibrate the baseline on the ``calibration`` trials (module docstring) and simulate every trial of
     ``data``."""
-    cal = _subset(data, [i for i in calibration if _seed_kind(data.trials[i])])
-    if not cal.trials:
-        raise InputError(f"no calibration trial is an isometric twitch or a train of <= {MAX_TRAIN_S} s: the "
-                         "baseline (Module 2) cannot be calibrated")
+    kind, ids = baseline_trials(data, calibration)
+    cal = _subset(data, ids)
     calibration = list(cal.trials)
-    _say(progress, f"baseline: staged calibration on {len(calibration)} trials")
-    staged = staged_calibration(cal, base, options=options, workers=workers, max_iterations=max_iterations,
-                                progress=False, name=f"{base.name}-baseline", length_compensation=False)
-    params, stages = staged.parameters, list(staged.stages)
     by_length = _isometric(list(cal.trials.values()))
-    if not by_length:
-        raise InputError("no isometric stimulated calibration trial: Module 2 cannot be calibrated")
+    if kind == "seed":
+        _say(progress, f"baseline: staged calibration on {len(calibration)} trials")
+        staged = staged_calibration(cal, base, options=options, workers=workers, max_iterations=max_iterations,
+                                    progress=False, name=f"{base.name}-baseline", length_compensation=False)
+        params, stages = staged.parameters, list(staged.stages)
+    else:
+        params = base
+        stages = [StageResult("module2", skipped=(
+            f"no isometric twitch or train of <= {MAX_TRAIN_S} s: the seed's Module 2 stage cannot run; Module 2 "
+            "is refined jointly with P0 on the isometric tetani (one rate: its rate dependence is not identified)"))]
     m2 = next(s for s in stages if s.stage == "module2")
-    if m2.skipped:
+    if kind == "seed" and m2.skipped:
         x_ref = max(by_length, key=lambda x: (len(by_length[x]), -abs(x - params["g1"])))
         ids = [t.trial_id for t in by_length[x_ref]]
         _say(progress, f"baseline: Module 2 at {x_ref:g} mm (no trial at g1 = {params['g1']:g} mm)")
@@ -136,7 +177,11 @@ def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: Par
         stages[stages.index(m2)] = r
         params = params.with_values(**r.values)
     free = list(MODULE2_FREE)
-    if FORCE_LENGTH_PATH not in data.extra_datasets:
+    if kind == "tetanic" and len(_rates_hz(list(cal.trials.values()))) <= 1:
+        free = [p for p in free if p not in TETANIC_ONE_RATE_FIXED]
+        stages[0].notes.append(f"one stimulation rate: {', '.join(TETANIC_ONE_RATE_FIXED)} (the Ca2+ sensitivity "
+                               "of the plateau) are confounded with P0 and held at their base values")
+    if kind == "tetanic" or FORCE_LENGTH_PATH not in data.extra_datasets:
         n_len = len(by_length)
         free = ["P0"] + (["g2"] if n_len >= 2 else []) + (["g1"] if n_len >= 3 else []) + free
     trials = [t for ts in by_length.values() for t in ts]

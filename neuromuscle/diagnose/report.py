@@ -45,6 +45,13 @@ def run_diagnosis(data_path: str | Path, out_dir: str | Path, *, heldout: Sequen
     data = read_measured(data_path)
     prepare(data, heldout)
     d = diagnose_data(data, heldout=heldout, workers=workers, progress=progress)
+    return write_report(d, data_path, out_dir, overwrite=overwrite)
+
+
+def write_report(d: Diagnosis, data_path: str | Path, out_dir: str | Path, *,
+                 overwrite: bool = False) -> dict[str, Any]:
+    """Write a finished diagnosis ``d`` of ``data_path`` into ``out_dir`` (module docstring); returns
+    diagnosis.json's content.  An existing report is refused unless overwrite."""
     out = prepare_out_dir(out_dir, overwrite, REPORT_FILES)
     figdir = out / "figures"
     figdir.mkdir(exist_ok=True)
