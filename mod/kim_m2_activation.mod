@@ -27,6 +27,7 @@ Coupling (documented interface, see neuromuscle/model/kim.py):
   RANGE A        <- read by the force mechanism (KimForce POINTER act).  Any excitation model that exposes an
                    activation A in [0, 1] can take this place in front of Module 3.
 Numerics: linear in Atil, so METHOD cnexp is exact for frozen x in fixed step; CVODE uses the same block.
+The movement clock switches at the onset in CVODE (an event there) and at the fixed step's midpoint (see states).
 ENDCOMMENT
 
 NEURON {
@@ -103,7 +104,7 @@ INITIAL {
     } else {
         atil = atil0
     }
-    activation()
+    activation(t)
 }
 
 BREAKPOINT {
@@ -113,7 +114,14 @@ BREAKPOINT {
 DERIVATIVE states {
     rates()
     atil' = (Ainf - atil)*kA
-    activation()
+    if (cvode_on()) {
+        activation(t)
+    } else {
+        : NEURON's fixed step updates the states with t at the step's end: the movement clock switches on
+        : at the step's midpoint, so the step that ends at the onset still runs without eqs 19-20 (as the
+        : continuous model and CVODE do) instead of one step early
+        activation(t - 0.5*dt)
+    }
 }
 
 PROCEDURE rates() {
@@ -130,13 +138,14 @@ PROCEDURE rates() {
     tauA = 1/kA
 }
 
-PROCEDURE activation() {
+PROCEDURE activation(tc (ms)) {
+    : tc: the time (ms) at which the movement clock's switch (t >= onset) is read
     LOCAL ph, at, dv
     at = atil
     if (at < 0) {
         at = 0
     }
-    if (movdep && t >= onset) {
+    if (movdep && tc >= onset) {
         : eq 19: alpha rises on the movement clock
         alpha_t = alpha + alpha1*(1 + tanh((t - onset - alpha2)/alpha3))
     } else {
@@ -147,7 +156,7 @@ PROCEDURE activation() {
     } else {
         A = pow(at, alpha_t)
     }
-    if (lengdiv && t >= onset) {
+    if (lengdiv && tc >= onset) {
         : eq 20: lengthening at or below the optimum
         if (xm <= xoptc && vm >= 0) {
             ph = phi1c*xm + phi2c
@@ -159,9 +168,11 @@ PROCEDURE activation() {
             }
         }
     }
-    if (movdep && t >= onset) {
+    if (movdep && tc >= onset) {
         if (A < Afloor) {
             A = Afloor
         }
     }
 }
+
+INCLUDE "cvode_on.inc"
