@@ -104,7 +104,7 @@ INITIAL {
     } else {
         atil = atil0
     }
-    activation(t)
+    activation(t, 0)
 }
 
 BREAKPOINT {
@@ -115,12 +115,15 @@ DERIVATIVE states {
     rates()
     atil' = (Ainf - atil)*kA
     if (cvode_on()) {
-        activation(t)
+        : the movement clock runs from just after the onset: CVODE stops there (an event), and the step that
+        : ends at the onset (whose implicit corrector evaluates this block at t = onset itself) still runs
+        : without eqs 19-20, as the continuous model does; the restart at the onset then runs with them
+        activation(t, 1)
     } else {
         : NEURON's fixed step updates the states with t at the step's end: the movement clock switches on
         : at the step's midpoint, so the step that ends at the onset still runs without eqs 19-20 (as the
         : continuous model and CVODE do) instead of one step early
-        activation(t - 0.5*dt)
+        activation(t - 0.5*dt, 0)
     }
 }
 
@@ -138,14 +141,20 @@ PROCEDURE rates() {
     tauA = 1/kA
 }
 
-PROCEDURE activation(tc (ms)) {
-    : tc: the time (ms) at which the movement clock's switch (t >= onset) is read
-    LOCAL ph, at, dv
+PROCEDURE activation(tc (ms), strict (1)) {
+    : tc: the time (ms) at which the movement clock's switch is read: moving when tc >= onset, or tc > onset
+    : with strict = 1 (CVODE: the onset itself belongs to the step that ends there)
+    LOCAL ph, at, dv, mv
+    if (strict) {
+        mv = tc > onset
+    } else {
+        mv = tc >= onset
+    }
     at = atil
     if (at < 0) {
         at = 0
     }
-    if (movdep && tc >= onset) {
+    if (movdep && mv) {
         : eq 19: alpha rises on the movement clock
         alpha_t = alpha + alpha1*(1 + tanh((t - onset - alpha2)/alpha3))
     } else {
@@ -156,7 +165,7 @@ PROCEDURE activation(tc (ms)) {
     } else {
         A = pow(at, alpha_t)
     }
-    if (lengdiv && tc >= onset) {
+    if (lengdiv && mv) {
         : eq 20: lengthening at or below the optimum
         if (xm <= xoptc && vm >= 0) {
             ph = phi1c*xm + phi2c
@@ -168,7 +177,7 @@ PROCEDURE activation(tc (ms)) {
             }
         }
     }
-    if (movdep && tc >= onset) {
+    if (movdep && mv) {
         if (A < Afloor) {
             A = Afloor
         }

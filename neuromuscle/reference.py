@@ -39,11 +39,12 @@ def _phi(x: float, p: ParameterSet) -> float:
 
 
 def activation(atil: float, t: float, x: float, v: float, p: ParameterSet, movement: tuple[bool, bool],
-               onset: float | None) -> float:
-    """A from Atil (eq 8), with eq 19 (movement[0]) and eq 20 (movement[1]) when on and t >= onset (ms); x mm,
-    v mm/s.  A is floored at 1e-3 while eq 19 is active; a non-positive eq 20 divisor gives A = 0."""
+               onset: float | None, at_onset: bool = True) -> float:
+    """A from Atil (eq 8), with eq 19 (movement[0]) and eq 20 (movement[1]) when on and t > onset (ms), or at
+    the onset itself when ``at_onset`` says the movement has started; x mm, v mm/s.  A is floored at 1e-3 while
+    eq 19 is active; a non-positive eq 20 divisor gives A = 0."""
     at = max(atil, 0.0)
-    moving = onset is not None and t >= onset
+    moving = onset is not None and (t > onset or (at_onset and t >= onset))
     eq19, eq20 = (moving and movement[0]), (moving and movement[1])
     a_t = p["alpha"] + p["alpha1"] * (1.0 + np.tanh((t - onset - p["alpha2"]) / p["alpha3"])) if eq19 \
         else p["alpha"]
@@ -94,11 +95,13 @@ def _ports(mod: Mapping[str, Callable[[float], float]] | StateModulation, t: flo
 
 def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: LengthTrace,
          lencomp: bool, movement: tuple[bool, bool],
-         mod: Mapping[str, Callable[[float], float]] | StateModulation) -> list[float]:
+         mod: Mapping[str, Callable[[float], float]] | StateModulation, seg_start: float) -> list[float]:
     CaSR, CaSRCS, CaSP, CaSPB, CaSPT, At, ext = y[:7]
     x = float(np.interp(t, trace.t_ms, trace.xm_mm))
     v = float(np.interp(t, trace.t_ms, trace.velocity_mm_s))  # the played Vm of eq 20
-    A = activation(At, t, x, v, p, movement, trace.onset_ms)
+    # the segment that ends at the onset runs without eqs 19-20 up to and including it (its solver evaluates the
+    # right-hand side at the segment's end); the next one starts with them
+    A = activation(At, t, x, v, p, movement, trace.onset_ms, at_onset=t > seg_start)
     F = p["P0"] * p["KSE"] * max(ext, 0.0)
     obs = Observables(A, x, v, F, p)
     port = _ports(mod, t, y, obs)
@@ -172,8 +175,11 @@ def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: Leng
         y0 = np.concatenate([y0, np.asarray(mod.y0, dtype=float)])
         atol = np.concatenate([_ATOL, np.full(len(mod.y0), 1e-10)])
     t_eval = np.arange(0.0, duration_ms + 0.5 * record_dt_ms, record_dt_ms)
-    # integrate piecewise between spikes so the solver never steps across a release onset
-    edges = np.unique(np.concatenate([[0.0], spikes[(spikes > 0) & (spikes < duration_ms)], [duration_ms]]))
+    # integrate piecewise between spikes (and at eq 19-20's movement onset) so the solver never steps across a
+    # release onset or the movement clock's switch
+    stops = [trace.onset_ms] if trace.onset_ms is not None and 0 < trace.onset_ms < duration_ms else []
+    edges = np.unique(np.concatenate([[0.0], spikes[(spikes > 0) & (spikes < duration_ms)], stops,
+                                      [duration_ms]]))
     ys, ts = [], []
     y = y0
     for a, b in zip(edges[:-1], edges[1:]):
@@ -181,7 +187,7 @@ def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: Leng
         # integrate to b itself: the next segment starts from the state at b, not at the last sample before it
         ask = sel if sel.size and sel[-1] >= b else np.append(sel, b)
         sol = solve_ivp(_rhs, (a, b), y, method="Radau", rtol=rtol, atol=atol, t_eval=ask, max_step=1.0,
-                        args=(p, spikes, trace, length_compensation, movement, mod))
+                        args=(p, spikes, trace, length_compensation, movement, mod, a))
         if sol.status != 0:
             raise RuntimeError(f"reference integration failed on {a}..{b} ms: {sol.message}")
         ys.append(sol.y[:, :sel.size])
@@ -191,7 +197,8 @@ def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: Leng
     t = np.concatenate(ts)
     x = trace.at(t)
     v = trace.velocity_at(t)
-    A = np.array([activation(a, ti, xi, vi, p, movement, trace.onset_ms) for a, ti, xi, vi in zip(Y[5], t, x, v)])
+    A = np.array([activation(a, ti, xi, vi, p, movement, trace.onset_ms, at_onset=False)
+                  for a, ti, xi, vi in zip(Y[5], t, x, v)])
     fse = p["P0"] * p["KSE"] * np.maximum(Y[6], 0.0)
     F = fse + np.array([_ports(mod, ti, Y[:, i], Observables(A[i], x[i], v[i], fse[i], p))["force_offset"]
                         for i, ti in enumerate(t)])

@@ -26,7 +26,8 @@ from .guarded_pool import Outcome, guarded_map
 from .sweep_draws import FACTOR_RANGE, draw
 from .sweep_journal import append_draw, open_journal
 from .sweep_protocols import Protocol, sweep_protocols
-from .sweep_summary import comparison, run_record, summarise
+from .sweep_explain import explain
+from .sweep_summary import TOLERANCE_PCT, comparison, run_record, summarise
 
 METHODS = ("fixed", "cvode")
 #: Recording interval (ms) of the force compared between the integrators.
@@ -108,8 +109,19 @@ def run_draw(task: dict[str, Any], emit: Callable[[dict[str, Any]], None]) -> No
             record, forces[method] = run_protocol(params, task["draw"], protocol, method, settings)
             emit({"kind": "run", "record": record})
         if all(f is not None for f in forces.values()):
-            emit({"kind": "comparison",
-                  "comparison": comparison(task["draw"], protocol.name, forces["fixed"], forces["cvode"])})
+            record = comparison(task["draw"], protocol.name, forces["fixed"], forces["cvode"])
+            if record["pct"] > TOLERANCE_PCT:
+                record["explained"] = _explained(params, protocol, forces, settings)
+            emit({"kind": "comparison", "comparison": record})
+
+
+def _explained(params: ParameterSet, protocol: Protocol, forces: dict[str, np.ndarray],
+               settings: SweepSettings) -> dict[str, Any]:
+    """``sweep_explain.explain`` of an over-tolerance comparison; a failure of its own runs is "unexplained"."""
+    try:
+        return explain(params, protocol, forces["fixed"], forces["cvode"], settings.dt_ms, RECORD_DT_MS)
+    except Exception as exc:  # the checks' own failure is a finding too
+        return {"cause": "unexplained", "error": f"{type(exc).__name__}: {str(exc).splitlines()[0][:200]}"}
 
 
 def _records(draw_index: int, outcome: Outcome) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:

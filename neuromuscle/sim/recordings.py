@@ -10,6 +10,12 @@ import numpy as np
 from ..errors import InputError
 
 
+def sample_times_ms(record_dt_ms: float, n: int) -> np.ndarray:
+    """The n sample times k * record_dt_ms (ms), rounded to 1e-9 ms: the same grid as played lengths (run.py),
+    so a sample and a breakpoint meant to coincide are the same double."""
+    return np.round(np.arange(n) * record_dt_ms, 9)
+
+
 class Recorder:
     """Vectors recording the named variables of one unit every ``record_dt_ms`` (ms) from t = 0.
 
@@ -19,7 +25,7 @@ class Recorder:
     """
 
     def __init__(self, unit: Any, names: Sequence[str], record_dt_ms: float,
-                 every_step_dt_ms: float | None = None) -> None:
+                 every_step_dt_ms: float | None = None, at_times_until_ms: float | None = None) -> None:
         from neuron import h
 
         if len(set(names)) != len(names):
@@ -40,10 +46,19 @@ class Recorder:
             if abs(self._stride * every_step_dt_ms - record_dt_ms) > 1e-9 * record_dt_ms:
                 raise InputError(f"record_dt_ms = {record_dt_ms} ms must be a multiple of dt_ms = "
                                  f"{every_step_dt_ms} ms when NEURON runs on several threads")
+        self._tvec = None
+        if at_times_until_ms is not None:
+            # explicit sample times, rounded to 1e-9 ms like the played length's times: NEURON 9.0.2's CVODE
+            # aborts the process (an assertion in NetCvode::global_microstep) when an interval recording's
+            # accumulated time, k * 0.025 ms, falls a rounding error short of a time where the integrator stopped
+            n = int(np.floor(at_times_until_ms / record_dt_ms + 1e-9)) + 1
+            self._tvec = h.Vector(sample_times_ms(record_dt_ms, n))
         for n, v in self._vectors.items():
             # the point process first: it tells NEURON which thread owns the variable
             owner = unit[n.partition(".")[0]].obj
-            if every_step_dt_ms is None:
+            if self._tvec is not None:
+                v.record(owner, unit.ref(n), self._tvec)
+            elif every_step_dt_ms is None:
                 v.record(owner, unit.ref(n), record_dt_ms)
             else:
                 v.record(owner, unit.ref(n))

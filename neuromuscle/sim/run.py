@@ -102,7 +102,7 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
         t_ms = np.append(t_ms, duration_ms + 1.0)
         xm = np.append(xm, xm[-1] + vm[-1] * (duration_ms + 1.0 - trace.t_ms[-1]) / 1000.0)
         vm = np.append(vm, vm[-1])
-    tvec, xvec, vvec = h.Vector(t_ms), h.Vector(xm), h.Vector(vm)
+    tvec, xvec, vvec = h.Vector(np.round(t_ms, 9)), h.Vector(xm), h.Vector(vm)  # the recordings' time grid
     unit.length.xm = float(trace.xm_mm[0])
     unit.length.vm = float(trace.velocity_mm_s[0])
     if not trace.is_isometric:
@@ -110,7 +110,8 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
         vvec.play(unit.length._ref_vm, tvec, 1)
     names = list(record) if record is not None else default_recordings(unit)
     stepwise = sim.dt_ms if sim.nthread > 1 and sim.method == "fixed" else None
-    recorder = Recorder(unit, names, record_dt_ms, every_step_dt_ms=stepwise)
+    recorder = Recorder(unit, names, record_dt_ms, every_step_dt_ms=stepwise,
+                        at_times_until_ms=duration_ms if sim.method == "cvode" else None)
     try:
         sim.run(duration_ms, units=[unit], cvode_events_ms=movement_events)
     finally:

@@ -61,3 +61,20 @@ def test_error_status_tells_budget_stops_and_nonfinite_runs_from_other_errors():
     assert error_status("unit: non-finite force.F at t = 3.000 ms (fixed, dt 0.025 ms)") == "nonfinite"
     assert error_status("x: CVODE failed at t = 3 ms of 400 ms") == "exception"
     assert failures(summarise([], [], seed=0, n_draws=0)) == ["no fixed-vs-CVODE comparison"]
+
+
+def test_explained_differences_are_counted_by_cause_and_only_unexplained_ones_fail():
+    runs, comparisons = _clean()
+    timing = comparison(1, "ramp50_mc", FORCE, FORCE * 1.04)
+    timing["explained"] = {"cause": "switch_timing", "timing_pct": 0.01}
+    first = comparison(2, "train40", FORCE, FORCE * 1.02)
+    first["explained"] = {"cause": "first_order", "fixed_quarter_pct": 0.5}
+    s = summarise(runs, comparisons + [timing, first], seed=0, n_draws=3)
+    assert s["failures"] == [] and s["n_over_tolerance"] == 2
+    assert s["over_tolerance_by_cause"] == {"switch_timing": 1, "first_order": 1}
+    assert s["worst_fixed_vs_cvode_pct"]["draw"] == 1 and s["worst_unexplained_pct"] is None
+    assert s["worst_by_cause"]["first_order"]["explained"]["fixed_quarter_pct"] == 0.5
+    unexplained = comparison(3, "twitch", FORCE, FORCE * 1.03)  # not examined: unexplained
+    s = summarise(runs, comparisons + [timing, first, unexplained], seed=0, n_draws=4)
+    assert s["worst_unexplained_pct"]["draw"] == 3 and s["over_tolerance_by_cause"]["unexplained"] == 1
+    assert any("1 unexplained" in f and "draw 3" in f for f in s["failures"])
