@@ -43,6 +43,19 @@ def test_lengthening_ramps_fixed_step_within_half_percent_of_cvode(ct09, velocit
     assert _fixed_vs_cvode(ct09, constant_rate(40, 1200.0, start_ms=100.0), ramp, 1400.0) < 0.005
 
 
+@pytest.mark.parametrize("mc", [False, True])
+@pytest.mark.parametrize("velocity", [50.0, 200.0])
+def test_lengthening_ramps_against_scipy(ct09, velocity, mc):
+    """A 40 Hz tetanus stretched by 10 mm at 50 or 200 mm/s, eqs 19-20 off and on: both integrators within
+    0.5 % of peak of the independent SciPy integration."""
+    spikes, ramp = constant_rate(40, 900.0, start_ms=100.0), isokinetic_ramp(-12.0, -2.0, velocity, 400.0, 1000.0)
+    ref = reference_simulate(ct09, spikes, ramp, 1000.0, record_dt_ms=0.5, movement_compensation=mc, rtol=1e-7)
+    for method in ("fixed", "cvode"):
+        sim = simulate(ct09, spikes, ramp, 1000.0, method=method, record_dt_ms=0.5,
+                       excitation=kim_excitation(movement_compensation=mc))
+        assert np.max(np.abs(sim.force_N - ref.force_N)) < 0.005 * ref.force_N.max(), method
+
+
 def _stretch_hold():
     # like the cat soleus stretch recordings (Herzog & Leonard 2002): isometric, an 8 mm stretch at 200 mm/s, hold
     return LengthTrace(np.array([0.0, 400.0, 440.0, 900.0]), np.array([-10.0, -10.0, -2.0, -2.0]))
