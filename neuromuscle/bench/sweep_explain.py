@@ -4,8 +4,9 @@ these that accounts for it (all differences in % of the larger peak, N):
 
 - ``"switch_timing"``: within the tolerance once each fixed-step sample may be matched to CVODE anywhere within
   one fixed step of its time.  Eq 19's onset and eq 20's switch (the sign of Vm, Xm crossing the optimum) make
-  A jump; the fixed step places the jump on its step grid, CVODE where it falls.  At low activation the CE then
-  yields within far less than a step, so the two forces differ by the whole transient for a sample or two;
+  A jump, and at near-zero force the SE goes slack and taut; the fixed step places such a switch on its step
+  grid, CVODE where it falls.  At low activation the CE then moves within far less than a step, so the two
+  forces differ by the whole transient for a sample or two;
 - ``"first_order"``: the fixed step converges on CVODE as dt shrinks (dt, dt/2, dt/4 in decreasing order) and
   is within the tolerance at dt/4 (directly or timing-tolerant to dt): the fixed step's O(dt) error at
   this parameter set (use a smaller dt or CVODE for it);
@@ -56,7 +57,9 @@ def explain(params: ParameterSet, protocol: Protocol, fixed_N: np.ndarray, cvode
     """The cause of one over-tolerance comparison (see the module docstring) and the evidence, each in % of peak:
     the difference timing-tolerant to one step at dt (``timing_pct``); the fixed step at dt/2 and dt/4 against
     CVODE (``fixed_half_pct``, ``fixed_quarter_pct``) and at dt/4 timing-tolerant to dt
-    (``fixed_quarter_timing_pct``); CVODE at rtol 1e-5 against 1e-6 (``cvode_rtol_pct``)."""
+    (``fixed_quarter_timing_pct``); CVODE at rtol 1e-5 against 1e-6 (``cvode_rtol_pct``; inf, with
+    ``cvode_rtol_error``, when CVODE fails at rtol 1e-5)."""
+    from ..errors import NumericalError
     from ..model.kim import kim_excitation
     from ..sim import Simulator, simulate
 
@@ -72,12 +75,16 @@ def explain(params: ParameterSet, protocol: Protocol, fixed_N: np.ndarray, cvode
     fine = force(Simulator(method="cvode"), dt_ms)
     quarter = force(Simulator(method="fixed", dt_ms=dt_ms / 4), record_dt_ms)
     half = force(Simulator(method="fixed", dt_ms=dt_ms / 2), record_dt_ms)
-    loose = force(Simulator(method="cvode", rtol=LOOSE_RTOL), record_dt_ms)
-    out = {"timing_pct": timing_tolerant_pct(fixed_N, fine, stride, 1),
-           "fixed_half_pct": fixed_vs_cvode_pct(half, cvode_N),
-           "fixed_quarter_pct": fixed_vs_cvode_pct(quarter, cvode_N),
-           "fixed_quarter_timing_pct": timing_tolerant_pct(quarter, fine, stride, 1),
-           "cvode_rtol_pct": fixed_vs_cvode_pct(loose, fine[::stride][:loose.size])}
+    out: dict[str, Any] = {"timing_pct": timing_tolerant_pct(fixed_N, fine, stride, 1),
+                           "fixed_half_pct": fixed_vs_cvode_pct(half, cvode_N),
+                           "fixed_quarter_pct": fixed_vs_cvode_pct(quarter, cvode_N),
+                           "fixed_quarter_timing_pct": timing_tolerant_pct(quarter, fine, stride, 1)}
+    try:
+        loose = force(Simulator(method="cvode", rtol=LOOSE_RTOL), record_dt_ms)
+        out["cvode_rtol_pct"] = fixed_vs_cvode_pct(loose, fine[::stride][:loose.size])
+    except NumericalError as exc:  # CVODE failing at a looser rtol is evidence too, not a reason to stop
+        out["cvode_rtol_pct"] = float("inf")
+        out["cvode_rtol_error"] = str(exc).splitlines()[0][:200]
     raw = fixed_vs_cvode_pct(fixed_N, cvode_N)
     if out["timing_pct"] <= tolerance_pct:
         cause = "switch_timing"
