@@ -67,6 +67,7 @@ PARAMETER {
 }
 
 ASSIGNED {
+    dt (ms)
     caspt (M)
     T0 (M)
     phi1 (/mm)
