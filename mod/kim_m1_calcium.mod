@@ -22,7 +22,9 @@ Spikes: NET_RECEIVE with weight w (1 for one spike): both release kernels jump b
 
 Numerics.  Fixed step: one linearly implicit (Rosenbrock-Euler) step of the five coupled Ca states with the
 exact analytic Jacobian, solved by eliminating CaSRCS, CaSPB and CaSPT into a 2x2 system; the kernels decay
-exactly and R uses their exact average over the step.  L-stable, no Newton iteration, no history loop.
+exactly and R uses their exact average over the step.  K6's cooperativity reads Atil extrapolated to the step's
+middle from its last two values (KimAct advances after this mechanism): with Atil of the step's start the loop
+CaSPT -> Atil -> K6 lagged by a step, and a regenerative twitch was missed (sweep draw 524: 1.6 N instead of 6.1 N).  L-stable, no Newton iteration, no history loop.
 Variable step (CVODE): the DERIVATIVE block gives the exact right-hand side, written a - b*y so that CVODE's
 diagonal Jacobian approximation sees the stiff terms.  The state equations are written as y' = a - b*y: in
 fixed step a holds the step's increment / dt and b = 0, so METHOD euler applies exactly that increment.
@@ -69,6 +71,8 @@ PARAMETER {
 }
 
 ASSIGNED {
+    atilp (1)
+    atx (1)
     dt (ms)
     atil (1)
     xm (mm)
@@ -124,6 +128,8 @@ INITIAL {
     S12 = 0
     nspike = 0
     hc = -1
+    atilp = atil
+    atx = atil
     rates_coeffs()
 }
 
@@ -147,6 +153,7 @@ DERIVATIVE states {
 }
 
 PROCEDURE rates_coeffs() {
+    : atx: the Atil that K6 uses (set by the caller)
     : K5, K6 and the length factor phi from the current Atil and Xm (eq 18 and the cooperativity);
     : each POINTER is read once (a NEURON 9 pointer dereference is not free)
     LOCAL x
@@ -161,7 +168,7 @@ PROCEDURE rates_coeffs() {
     } else {
         K5 = K5i
     }
-    K6 = K6i/(1 + 5*atil)
+    K6 = K6i/(1 + 5*atx)
     : modulation ports, read only when an extension drives them (use_ports = 1, set by the Python wiring);
     : otherwise the neutral 1, with no pointer dereference per step (and nothing to set for a hoc user)
     if (use_ports) {
@@ -200,6 +207,7 @@ FUNCTION dpump(c (M)) (/ms) {
 
 PROCEDURE exact_rhs() {
     LOCAL r, tau12, up
+    atx = atil
     rates_coeffs()
     tau12 = 1/(1/tau1 + 1/tau2)
     r = rg*Rmax*(S2 - S12)
@@ -233,7 +241,15 @@ PROCEDURE exact_rhs() {
 }
 
 PROCEDURE implicit_step(h (ms)) {
-    LOCAL tau12, e2, e12, r, y1, y3, f1, f2, f3, f4, f5, J11, J12, J13, J21, J22, J31, J33, J34, J35, J43, J44, J53, J55, d2, d4, d5, m11, m13, m31, m33, c1, c3, det, D1, D2, D3, D4, D5, Up
+    LOCAL tau12, e2, e12, r, y1, y3, f1, f2, f3, f4, f5, J11, J12, J13, J21, J22, J31, J33, J34, J35, J43, J44, J53, J55, d2, d4, d5, m11, m13, m31, m33, c1, c3, det, D1, D2, D3, D4, D5, Up, a0
+    : Atil at the step's middle, extrapolated from its last two values (KimAct advances after this mechanism):
+    : K6's cooperativity then lags by O(dt^2), not O(dt)
+    a0 = atil
+    atx = a0 + 0.5*(a0 - atilp)
+    if (atx < 0) {
+        atx = 0
+    }
+    atilp = a0
     rates_coeffs()
     if (h != hc) {
         : kernel decay and step-mean factors depend only on the step: computed once per dt

@@ -87,9 +87,10 @@ def test_dt_convergence(ct09):
         sim = simulate(ct09, [500.0], -8.0, 700.0, dt_ms=dt, record_dt_ms=dt)
         errors.append(_rel(twitch_metrics(sim.t_ms, sim.force_N, 500.0).peak_N, m_ref.peak_N))
     assert all(b < a for a, b in zip(errors, errors[1:])), errors
-    # first order: halving dt roughly halves the error
-    assert 1.5 < errors[0] / errors[1] < 2.6 and 1.5 < errors[2] / errors[3] < 2.6, errors
-    assert errors[2] < 0.005
+    # at least first order: halving dt at least halves the error (measured 2.9, 2.6, 2.8 since K6 reads Atil
+    # extrapolated to the step's middle; 1.8-2.0 before), and 0.011 % at dt 0.025 ms (0.078 % before)
+    assert all(a / b > 1.8 for a, b in zip(errors, errors[1:])), errors
+    assert errors[2] < 0.0003
 
 
 def test_random_train_during_lengthening_ramp_with_compensations(ct09):
