@@ -141,13 +141,12 @@ ASSIGNED {
     bb (/ms)
     dfdx (/ms)
     kse (N/mm)
-    fend (N)
-    Fasym (N)
     xmc (mm)
     gc (1)
     al (1)
     : the substep counter
     kcount (1)
+    zeroed (1)
 }
 
 STATE {
@@ -184,6 +183,7 @@ INITIAL {
     nspike = 0
     hc = -1
     kcount = 0
+    zeroed = 0
     rates_coeffs()
     : Module 2 (KimAct's INITIAL)
     if (rest) {
@@ -222,12 +222,16 @@ DERIVATIVE states {
             kcount = 0
             step_all(substeps*dt)
         }
-        : the states are already advanced: nothing left for METHOD euler to add
-        a1 = 0  a2 = 0  a3 = 0  a4 = 0  a5 = 0  a6 = 0  a7 = 0
-        b1 = 0  b2 = 0  b3 = 0  b4 = 0  b5 = 0  b6 = 0  b7 = 0
-        kAd = 0
-        aa = 0
-        bb = 0
+        if (zeroed == 0) {
+            : the states are already advanced: nothing is left for METHOD euler to add (set once per run;
+            : rhs_all, under CVODE, sets them again)
+            a1 = 0  a2 = 0  a3 = 0  a4 = 0  a5 = 0  a6 = 0  a7 = 0
+            b1 = 0  b2 = 0  b3 = 0  b4 = 0  b5 = 0  b6 = 0  b7 = 0
+            kAd = 0
+            aa = 0
+            bb = 0
+            zeroed = 1
+        }
     }
     CaSR' = a1 - b1*CaSR
     CaSRCS' = a2 - b2*CaSRCS
@@ -246,6 +250,7 @@ DERIVATIVE states {
 
 PROCEDURE rhs_all() {
     : CVODE: KimCa's, KimAct's and KimForce's DERIVATIVE blocks in registration order
+    zeroed = 0
     exact_rhs()
     rates()
     kAd = kA
@@ -265,16 +270,10 @@ PROCEDURE rhs_all() {
 
 PROCEDURE step_all(h (ms)) {
     : one fixed step of length h of the three modules, states assigned here (h = dt: the three mechanisms'
-    : expressions exactly; KimCa's y + dt (a - 0 y) is y + h (D/h))
+    : expressions exactly)
+    LOCAL ks, fe, fa, ac
     : Module 1
     implicit_step(h)
-    CaSR = CaSR + h*a1
-    CaSRCS = CaSRCS + h*a2
-    CaSP = CaSP + h*a3
-    CaSPB = CaSPB + h*a4
-    CaSPT = CaSPT + h*a5
-    S2 = S2 + h*a6
-    S12 = S12 + h*a7
     : Module 2: KimAct's cnexp update as nocmodl writes it, then eq 19-20 at the step's midpoint
     rates()
     atil = atil + (1 - exp(h*(-kA)))*(-(Ainf*kA)/(-kA) - atil)
@@ -283,31 +282,31 @@ PROCEDURE step_all(h (ms)) {
     al = A
     se_force()
     velocity()
-    kse = P0*KSE
+    ks = P0*KSE
     if (xl - xce > 0 || (xl - xce == 0 && vce < 0)) {
-        dfdx = -kse*dvdF/(1000)
+        dfdx = -ks*dvdF/(1000)
     } else {
         dfdx = 0
     }
-    aa = (vce/(1000))/(1 - h*dfdx)
-    if (xl - xce < 0 && xce + h*aa < xl) {
-        aa = (xl - xce)/h
+    ac = (vce/(1000))/(1 - h*dfdx)
+    if (xl - xce < 0 && xce + h*ac < xl) {
+        ac = (xl - xce)/h
     }
     if (Fc > 0) {
-        fend = kse*(xl - xce - h*aa)
-        Fasym = (2 + c0/P0)*Fc
-        if (fend > Fc + asym*(Fasym - Fc)) {
-            ce_backward_euler(h)
+        fe = ks*(xl - xce - h*ac)
+        fa = (2 + c0/P0)*Fc
+        if (fe > Fc + asym*(fa - Fc)) {
+            ac = ce_backward_euler(h, ks)
             nasym = nasym + 1
-        } else if ((fend > Fc || Fse > Fc) && fabs((fend - Fse)/(1 (N))) > lincurv*(Fasym - fmax(fend, Fse))/(1 (N))) {
-            ce_backward_euler(h)
-        } else if (fend < Fc && Fse < Fc && fabs((fend - Fse)/(1 (N))) > lincurv*(fmin(fend, Fse) + a0*Fc/P0)/(1 (N))) {
-            ce_backward_euler(h)
-        } else if (Fse <= 0 || fend <= 0) {
-            ce_backward_euler(h)
+        } else if ((fe > Fc || Fse > Fc) && fabs((fe - Fse)/(1 (N))) > lincurv*(fa - fmax(fe, Fse))/(1 (N))) {
+            ac = ce_backward_euler(h, ks)
+        } else if (fe < Fc && Fse < Fc && fabs((fe - Fse)/(1 (N))) > lincurv*(fmin(fe, Fse) + a0*Fc/P0)/(1 (N))) {
+            ac = ce_backward_euler(h, ks)
+        } else if (Fse <= 0 || fe <= 0) {
+            ac = ce_backward_euler(h, ks)
         }
     }
-    xce = xce + h*aa
+    xce = xce + h*ac
     se_force()
     velocity()
 }
@@ -379,8 +378,8 @@ PROCEDURE exact_rhs() {
 }
 
 PROCEDURE implicit_step(h (ms)) {
-    : KimCa's linearly implicit step (rg = ug = 1); leaves the increment / h in a1..a7
-    LOCAL tau12, e2, e12, r, y1, y3, f1, f2, f3, f4, f5, J11, J12, J13, J21, J22, J31, J33, J34, J35, J43, J44, J53, J55, d2, d4, d5, m11, m13, m31, m33, c1, c3, det, D1, D2, D3, D4, D5, Up
+    : KimCa's linearly implicit step (rg = ug = 1), applied to the states (intermediates are LOCALs: no stores)
+    LOCAL k6, k7, tau12, e2, e12, r, y1, y3, f1, f2, f3, f4, f5, J11, J12, J13, J21, J22, J31, J33, J34, J35, J43, J44, J53, J55, d2, d4, d5, m11, m13, m31, m33, c1, c3, det, D1, D2, D3, D4, D5, Up
     rates_coeffs()
     if (h != hc) {
         tau12 = 1/(1/tau1 + 1/tau2)
@@ -431,19 +430,22 @@ PROCEDURE implicit_step(h (ms)) {
     D2 = (h*f2 + h*J21*D1)/d2
     D4 = (h*f4 + h*J43*D3)/d4
     D5 = (h*f5 + h*J53*D3)/d5
-    a1 = D1/h
-    a2 = D2/h
-    a3 = D3/h
-    a4 = D4/h
-    a5 = D5/h
-    a6 = S2*(e2 - 1)/h
-    a7 = S12*(e12 - 1)/h
+    : KimCa's y + dt (a - 0 y) with a = D/h (h = dt): the same roundings
+    CaSR = CaSR + h*(D1/h)
+    CaSRCS = CaSRCS + h*(D2/h)
+    CaSP = CaSP + h*(D3/h)
+    CaSPB = CaSPB + h*(D4/h)
+    CaSPT = CaSPT + h*(D5/h)
+    k6 = S2*(e2 - 1)/h
+    k7 = S12*(e12 - 1)/h
     if (S12 < 1e-200) {
-        a7 = -S12/h
+        k7 = -S12/h
         if (S2 < 1e-200) {
-            a6 = -S2/h
+            k6 = -S2/h
         }
     }
+    S2 = S2 + h*k6
+    S12 = S12 + h*k7
 }
 
 : ---- Module 2 (kim_m2_activation.mod) ----
@@ -515,16 +517,17 @@ FUNCTION fmax(a (N), b (N)) (N) {
     }
 }
 
-PROCEDURE ce_backward_euler(h (ms)) {
-    : KimForce's implicit_step: a backward-Euler step of the CE (safeguarded Newton on the step's end force)
+FUNCTION ce_backward_euler(h (ms), ks (N/mm)) (mm/ms) {
+    : KimForce's implicit_step: a backward-Euler step of the CE (safeguarded Newton on the step's end force); returns
+    : its velocity (mm/ms), KimForce's aa
     LOCAL lo, hi, f, g, dg, i, rhs, fsave, done
     fsave = Fse
-    rhs = kse*(xl - xce)
+    rhs = ks*(xl - xce)
     Fse = 0
     velocity()
-    g = kse*h*vce/(1000) - rhs
+    g = ks*h*vce/(1000) - rhs
     if (g >= 0) {
-        aa = vce/(1000)
+        ce_backward_euler = vce/(1000)
     } else {
         lo = 0*rhs
         hi = rhs
@@ -537,7 +540,7 @@ PROCEDURE ce_backward_euler(h (ms)) {
         WHILE (i < 100 && done == 0) {
             Fse = f
             velocity()
-            g = f + kse*h*vce/(1000) - rhs
+            g = f + ks*h*vce/(1000) - rhs
             UNITSOFF
             if (fabs(g) <= 1e-13*hi || hi - lo <= 1e-13*hi) {
             UNITSON
@@ -548,7 +551,7 @@ PROCEDURE ce_backward_euler(h (ms)) {
                 } else {
                     lo = f
                 }
-                dg = 1 + kse*h*dvdF/(1000)
+                dg = 1 + ks*h*dvdF/(1000)
                 f = f - g/dg
                 if (f <= lo || f >= hi) {
                     f = 0.5*(lo + hi)
@@ -556,7 +559,7 @@ PROCEDURE ce_backward_euler(h (ms)) {
             }
             i = i + 1
         }
-        aa = (xl - f/kse - xce)/h
+        ce_backward_euler = (xl - f/ks - xce)/h
     }
     Fse = fsave
     velocity()
