@@ -42,11 +42,15 @@ NEURON {
     RANGE F, Fse, Fc, vce, nasym
     : the unit
     RANGE rest, substeps
+    : intermediates set and used within one instance's evaluation: per-thread GLOBALs, not per-instance fields
+    : (fewer fields: nocmodl's field accessors stay inlined, see docs/speed.md)
+    GLOBAL a1, a2, a3, a4, a5, a6, a7, b1, b2, b3, b4, b5, b6, b7, kA, kAd, dvdF, aa, bb, dfdx, kse, al, xl
     POINTER xm, vm
 }
 
 UNITS {
     (M) = (1/liter)
+    (mV) = (millivolt)
 }
 
 PARAMETER {
@@ -105,6 +109,7 @@ PARAMETER {
 }
 
 ASSIGNED {
+    v (mV)      : declared for modlunit, which asks it of a point process with GLOBALs; not used
     dt (ms)
     xm (mm)
     vm (mm/s)
@@ -460,43 +465,50 @@ PROCEDURE rates() {
 }
 
 PROCEDURE activation(tc (ms), strict (1)) {
-    LOCAL ph, at, dv, mv, vl
+    : KimAct's activation(), A and alpha_t computed in LOCALs and stored once (the same arithmetic)
+    LOCAL ph, at, dv, mv, vl, a, alt, md, ld
+    UNITSOFF
     if (strict) {
         mv = tc > onset
     } else {
         mv = tc >= onset
     }
+    md = movdep && mv
+    ld = lengdiv && mv
     at = atil
     if (at < 0) {
         at = 0
     }
-    if (movdep && mv) {
-        alpha_t = alpha + alpha1*(1 + tanh((t - onset - alpha2)/alpha3))
+    if (md) {
+        alt = alpha + alpha1*(1 + tanh((t - onset - alpha2)/alpha3))
     } else {
-        alpha_t = alpha
+        alt = alpha
     }
-    if (alpha_t == 2) {
-        A = at*at
+    if (alt == 2) {
+        a = at*at
     } else {
-        A = pow(at, alpha_t)
+        a = pow(at, alt)
     }
-    if (lengdiv && mv) {
+    if (ld) {
         vl = vm
         if (xl <= xopt && vl >= 0) {
             ph = phi1*xl + phi2
             dv = (1 + beta*ph)*(1 + gamma*vl)
             if (dv > 0) {
-                A = A/dv
+                a = a/dv
             } else {
-                A = 0
+                a = 0
             }
         }
     }
-    if (movdep && mv) {
-        if (A < Afloor) {
-            A = Afloor
+    if (md) {
+        if (a < Afloor) {
+            a = Afloor
         }
     }
+    alpha_t = alt
+    A = a
+    UNITSON
 }
 
 : ---- Module 3 (kim_m3_force.mod) ----
@@ -566,48 +578,64 @@ FUNCTION ce_backward_euler(h (ms), ks (N/mm)) (mm/ms) {
 }
 
 PROCEDURE se_force() {
-    Fse = P0*KSE*(xl - xce)
-    if (Fse < 0) {
-        Fse = 0
+    : KimForce's se_force(), each field read once into a LOCAL (the same arithmetic)
+    LOCAL fs, p0, fc
+    UNITSOFF
+    p0 = P0
+    fs = p0*KSE*(xl - xce)
+    if (fs < 0) {
+        fs = 0
     }
-    F = Fse
+    Fse = fs
+    F = fs
     if (xl != xmc) {
         gc = exp(-((xl - g1)/g2)^2)
         xmc = xl
     }
-    Fc = P0*gc*al
-    if (Fc < 0) {
-        Fc = 0
-    } else if (Fc > 0 && Fc < fcmin*P0) {
-        Fc = fcmin*P0
+    fc = p0*gc*al
+    if (fc < 0) {
+        fc = 0
+    } else if (fc > 0 && fc < fcmin*p0) {
+        fc = fcmin*p0
     }
+    Fc = fc
+    UNITSON
 }
 
 PROCEDURE velocity() {
-    LOCAL Fa
-    if (Fc <= 0) {
-        dvdF = 0
-        if (Fse > 0) {
-            vce = vmax
+    : KimForce's velocity(), each field read once into a LOCAL (the same arithmetic; fewer field accesses)
+    LOCAL Fa, fc, fs, p0, a0f, v, dv
+    UNITSOFF
+    fc = Fc
+    fs = Fse
+    if (fc <= 0) {
+        dv = 0
+        if (fs > 0) {
+            v = vmax
         } else {
-            vce = 0
+            v = 0
         }
-    } else if (Fse <= Fc) {
-        vce = -b0*(Fc - Fse)/(Fse + a0*Fc/P0)
-        dvdF = b0*Fc*(1 + a0/P0)/((Fse + a0*Fc/P0)*(Fse + a0*Fc/P0))
+    } else if (fs <= fc) {
+        p0 = P0
+        a0f = a0
+        v = -b0*(fc - fs)/(fs + a0f*fc/p0)
+        dv = b0*fc*(1 + a0f/p0)/((fs + a0f*fc/p0)*(fs + a0f*fc/p0))
     } else {
-        Fa = (2 + c0/P0)*Fc
-        if (Fse < Fa) {
-            vce = d0*(Fse - Fc)/(Fa - Fse)
-            dvdF = d0*(Fa - Fc)/((Fa - Fse)*(Fa - Fse))
+        Fa = (2 + c0/P0)*fc
+        if (fs < Fa) {
+            v = d0*(fs - fc)/(Fa - fs)
+            dv = d0*(Fa - fc)/((Fa - fs)*(Fa - fs))
         } else {
-            vce = vmax
+            v = vmax
         }
-        if (vce >= vmax) {
-            vce = vmax
-            dvdF = 0
+        if (v >= vmax) {
+            v = vmax
+            dv = 0
         }
     }
+    vce = v
+    dvdF = dv
+    UNITSON
 }
 
 INCLUDE "cvode_on.inc"
