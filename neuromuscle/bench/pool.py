@@ -55,10 +55,13 @@ def run_one(n_units: int, ranks: int, duration_ms: float, dt_ms: float, drive: s
 
 def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANKS,
                duration_ms: float = DEFAULT_DURATION_MS, dt_ms: float = 0.025, drive: str = "ramp",
-               full: bool = False, progress: bool = False) -> dict[str, Any]:
+               full: bool = False, progress: bool = False, muscle: str = "modules", substeps: int = 1,
+               nthread: int = 1) -> dict[str, Any]:
     """Run every (N, ranks) pair and return {"runs": [report, ...], "skipped": [...], settings}; a rank count
     that cannot run here (no MPI) is listed under "skipped" with the reason.  The drive is a common current ramp
-    0 -> 20 nA over the run ("ramp": recruitment across the pool) or independent Poisson input ("poisson")."""
+    0 -> 20 nA over the run ("ramp": recruitment across the pool) or independent Poisson input ("poisson").
+    ``muscle``: "modules" (KimCa, KimAct, KimForce) or "fused" (KimUnit); ``substeps`` k: the fused muscle
+    advances every k membrane steps; ``nthread``: NEURON threads per rank."""
     if not units or any(isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in units):
         raise InputError(f"pool sizes must be integers >= 1, got {list(units)}")
     if not ranks or any(isinstance(r, bool) or not isinstance(r, int) or r < 1 for r in ranks):
@@ -68,8 +71,17 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
         raise InputError(f"more ranks than units in {too_many}: use at most one rank per unit")
     if drive not in ("ramp", "poisson"):
         raise InputError(f"drive must be 'ramp' or 'poisson', got {drive!r}")
+    if muscle not in ("modules", "fused"):
+        raise InputError(f"muscle must be 'modules' or 'fused', got {muscle!r}")
+    for name, k in (("substeps", substeps), ("nthread", nthread)):
+        if isinstance(k, bool) or not isinstance(k, int) or k < 1:
+            raise InputError(f"{name} must be an integer >= 1, got {k!r}")
+    if substeps > 1 and muscle != "fused":
+        raise InputError(f"substeps = {substeps} needs muscle='fused'")
     extra = ["--ramp-peak-na", "20"] if drive == "ramp" else []
+    extra += ["--muscle", muscle, "--substeps", str(substeps), "--nthread", str(nthread)]
     out: dict[str, Any] = {"duration_ms": duration_ms, "dt_ms": dt_ms, "drive": drive, "full": full,
+                           "muscle": muscle, "substeps": substeps, "nthread": nthread,
                            "cpu_count": os.cpu_count(), "runs": [], "skipped": []}
     for n in units:
         for r in ranks:
@@ -87,7 +99,8 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
 
 def table_lines(res: dict[str, Any]) -> list[str]:
     """The result as a Markdown table (N x ranks: wall, sim, build, memory, spikes, load)."""
-    lines = [f"pools, {res['duration_ms'] / 1000:g} s simulated at dt {res['dt_ms']} ms, {res['drive']} drive",
+    lines = [f"pools, {res['duration_ms'] / 1000:g} s simulated at dt {res['dt_ms']} ms, {res['drive']} drive, muscle "
+             f"{res.get('muscle', 'modules')} (substeps {res.get('substeps', 1)}), {res.get('nthread', 1)} thread(s)",
              "", "| N | ranks | wall s | sim s | build s | s per unit-s | peak MiB (largest rank) | spikes | load |",
              "|---|---|---|---|---|---|---|---|---|"]
     for r in res["runs"]:

@@ -3,11 +3,12 @@
 from .component import Component, Param, Port, State
 from .hatze import HatzeExcitation, HatzeMTC, HatzeTrend, hatze_contraction, hatze_excitation
 from .kim import KimActivation, KimCalcium, KimForce, kim_contraction, kim_excitation
+from .kim_unit import KimUnit, kim_fused
 from .length import MuscleLength
 from .mechanisms import load_mechanisms, mechanism_hash
 from .unit import CONTRACTIONS, EXCITATIONS, MuscleUnit
 
 __all__ = ["CONTRACTIONS", "Component", "EXCITATIONS", "HatzeExcitation", "HatzeMTC", "HatzeTrend",
-           "KimActivation", "KimCalcium", "KimForce", "MuscleLength", "MuscleUnit", "Param", "Port", "State",
-           "hatze_contraction", "hatze_excitation", "kim_contraction", "kim_excitation", "load_mechanisms",
+           "KimActivation", "KimCalcium", "KimForce", "KimUnit", "MuscleLength", "MuscleUnit", "Param", "Port", "State",
+           "hatze_contraction", "hatze_excitation", "kim_contraction", "kim_excitation", "kim_fused", "load_mechanisms",
            "mechanism_hash"]

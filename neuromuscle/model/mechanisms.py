@@ -29,9 +29,10 @@ from ..errors import MechanismBuildError
 
 def required_mechanisms() -> tuple[str, ...]:
     """POINT_PROCESS names the package needs: one per registered component (extensions included)."""
-    from . import extensions, hatze, kim, length
+    from . import extensions, hatze, kim, kim_unit, length
 
-    comps = (*kim.COMPONENTS, *hatze.COMPONENTS, length.MuscleLength, *extensions.mechanism_extensions())
+    comps = (*kim.COMPONENTS, *kim_unit.COMPONENTS, *hatze.COMPONENTS, length.MuscleLength,
+             *extensions.mechanism_extensions())
     return tuple(c.suffix for c in comps)
 
 

@@ -4,8 +4,10 @@
     unit = MuscleUnit(p, excitation=kim_excitation(movement_compensation=True))
     unit = MuscleUnit(p, excitation="hatze", contraction="kim")       # Hatze's q drives Module 3
     unit = MuscleUnit(p, extensions={"fatigue": {}})                  # any catalogue extension, by name
+    unit = MuscleUnit(p, excitation=kim_fused())                      # Modules 1-3 in one mechanism (faster)
 
-Each slot holds one component ("length", "ca", "act", "force", and one per extension).  Every POINTER of every
+A component that both receives spikes and has an output (KimUnit, ``kim_fused``) is a whole muscle model: it is
+given as ``excitation`` with no ``contraction``.  Each slot holds one component ("length", "ca", "act", "force", and one per extension).  Every POINTER of every
 component is wired at construction: to the variable its port names ("act.A"), to an extension that targets it,
 or, for an unused modulation port, to the mechanism's own neutral value.  ``connect_from`` takes spikes from any
 NetCon source, ``add_spike_times`` from a recording; ``destroy()`` (or ``with``) removes everything from NEURON.
@@ -77,12 +79,20 @@ class MuscleUnit:
         self.params = params
         self.name = name
         exc = _slots(excitation, EXCITATIONS, "excitation")
-        con = _slots(contraction, CONTRACTIONS, "contraction")
+        whole = [s for s, c in exc.items() if c.output]  # a whole muscle model (KimUnit): no contraction slot
+        if whole and contraction is not None:
+            raise InputError(f"{name}: the excitation {whole[0]!r} ({type(exc[whole[0]]).__name__}) holds the "
+                             f"contraction already; give no contraction (got {contraction!r})")
+        con = {} if whole else _slots(contraction, CONTRACTIONS, "contraction")
         exts: dict[str, Extension] = make_extensions(extensions)
+        if whole and exts:
+            raise InputError(f"{name}: model extensions ({', '.join(exts)}) drive the modulation ports of KimCa, "
+                             "KimAct and KimForce; the fused KimUnit has none: use the three-mechanism unit "
+                             "(excitation='kim') with extensions")
         clash = (set(exc) & set(con)) | ((set(exc) | set(con)) & (set(exts) | {"length"}))
         if clash:
             raise InputError(f"{name}: slot(s) {sorted(clash)} used twice")
-        outputs = [s for s, c in con.items() if c.output]
+        outputs = [s for s, c in (*exc.items(), *con.items()) if c.output]
         if len(outputs) != 1:
             raise InputError(f"{name}: the contraction model must have exactly one component with an output, "
                              f"got {outputs}")

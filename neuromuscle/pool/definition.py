@@ -15,6 +15,10 @@ from .motoneuron import TYPES, MotoneuronParameters, motoneuron_parameters, unit
 from .units import TWITCH_SPEED, p0_spread_N, unit_muscle_parameters
 
 
+#: Muscle models a pool can build: the three Kim mechanisms, or Modules 1-3 fused in one (KimUnit).
+MUSCLE_MODELS = ("modules", "fused")
+
+
 @dataclass(frozen=True)
 class UnitSpec:
     """One motor unit: index (= gid), type, its motoneuron's and its muscle unit's parameters, extensions."""
@@ -38,7 +42,9 @@ class PoolDefinition:
     """N units in recruitment order (size index from 0 to ``max_size``), types by ``type_fractions`` (S, FR, FF),
     P0 from ``smallest_p0_N`` over ``p0_range`` (largest / smallest), twitch speed by type (``twitch_speed``),
     axon length ``axon_length_mm`` (mm).  ``extensions``: {unit index: {extension: {param: value}}} or one
-    mapping for every unit (key "all").  ``motoneuron_overrides``: fields replaced in every motoneuron."""
+    mapping for every unit (key "all").  ``motoneuron_overrides``: fields replaced in every motoneuron.
+    ``muscle_model``: "modules" (KimCa, KimAct, KimForce: takes extensions) or "fused" (KimUnit: the same numbers,
+    faster, no extensions); ``muscle_substeps`` k (fused only): the muscle advances every k membrane steps."""
 
     n_units: int
     muscle: ParameterSet
@@ -51,6 +57,8 @@ class PoolDefinition:
     extensions: Mapping[Any, Mapping[str, Mapping[str, float]]] = field(default_factory=dict)
     motoneuron_overrides: Mapping[str, Any] = field(default_factory=dict)
     name: str = "pool"
+    muscle_model: str = "modules"
+    muscle_substeps: int = 1
 
     def __post_init__(self) -> None:
         where = f"pool {self.name!r}"
@@ -70,6 +78,18 @@ class PoolDefinition:
                                                                 and 0 <= k < self.n_units)]
         if bad:
             raise InputError(f"{where}: extensions keys must be unit indices 0..{self.n_units - 1} or 'all', got {bad}")
+        if self.muscle_model not in MUSCLE_MODELS:
+            raise InputError(f"{where}: muscle_model must be one of {', '.join(MUSCLE_MODELS)}, got "
+                             f"{self.muscle_model!r}")
+        k = self.muscle_substeps
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
+            raise InputError(f"{where}: muscle_substeps must be an integer >= 1, got {k!r}")
+        if k > 1 and self.muscle_model != "fused":
+            raise InputError(f"{where}: muscle_substeps = {k} needs muscle_model='fused' (the three mechanisms "
+                             "advance every step)")
+        if self.muscle_model == "fused" and any(self.extensions.values()):
+            raise InputError(f"{where}: extensions need muscle_model='modules' (the fused KimUnit has no "
+                             "modulation ports)")
         unit_type_of(0.0, tuple(self.type_fractions))  # checks the fractions
         p0_spread_N(int(self.n_units), self.smallest_p0_N, self.p0_range)
         object.__setattr__(self, "_units", None)

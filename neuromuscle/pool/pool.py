@@ -25,6 +25,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..errors import InputError
+from ..model.kim_unit import kim_fused
 from ..model.unit import MuscleUnit
 from ..protocols.lengths import LengthTrace
 from ..sim import Simulator
@@ -88,7 +89,8 @@ class Pool:
                 sec = self._sec
             src = self._new_length(h, sec) if self.per_unit_length else shared
             self.muscle[u.index] = MuscleUnit(u.muscle, section=sec, length_source=src,
-                                              extensions=u.extensions or None, name=f"unit{u.index}")
+                                              excitation=self._excitation(), extensions=u.extensions or None,
+                                              name=f"unit{u.index}")
             pc.set_gid2node(u.index, self.rank)
             if motoneurons:
                 cell = Motoneuron(u.motoneuron, name=f"mn{u.index}")
@@ -104,6 +106,12 @@ class Pool:
         self._spike_t, self._spike_gid = h.Vector(), h.Vector()
         if motoneurons:
             pc.spike_record(-1, self._spike_t, self._spike_gid)
+
+    def _excitation(self) -> Any:
+        """The muscle model of every unit: None (the three Kim mechanisms) or a fresh fused KimUnit."""
+        if self.definition.muscle_model == "fused":
+            return kim_fused(substeps=int(self.definition.muscle_substeps))
+        return None
 
     def _new_length(self, h: Any, sec: Any) -> Any:
         ml = h.MuscleLength(sec(0.5))

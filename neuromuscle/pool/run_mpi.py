@@ -48,6 +48,9 @@ class PoolRun:
     p0_range: float = 20.0
     length_mm: float = -8.0
     record_dt_ms: float = 1.0
+    muscle: str = "modules"
+    substeps: int = 1
+    nthread: int = 1
 
 
 def parser() -> argparse.ArgumentParser:
@@ -73,6 +76,11 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--p0-range", type=float, default=d.p0_range)
     ap.add_argument("--length-mm", type=float, default=d.length_mm)
     ap.add_argument("--record-dt-ms", type=float, default=d.record_dt_ms)
+    ap.add_argument("--muscle", choices=("modules", "fused"), default=d.muscle,
+                    help="modules: KimCa, KimAct, KimForce per unit; fused: one KimUnit per unit (same numbers)")
+    ap.add_argument("--substeps", type=int, default=d.substeps,
+                    help="with --muscle fused: the muscle advances every k membrane steps (step k dt)")
+    ap.add_argument("--nthread", type=int, default=d.nthread, help="NEURON threads per rank")
     ap.add_argument("--out", default=None, help="HDF5 result (written by rank 0)")
     ap.add_argument("--overwrite", action="store_true")
     ap.add_argument("--json", action="store_true", help="print the JSON report (rank 0)")
@@ -84,7 +92,8 @@ def _config(args: argparse.Namespace) -> PoolRun:
                    method=args.method, atol=args.atol, local_dt=args.local_dt, drive=args.drive,
                    rate_hz=args.rate_hz, weight_uS=args.weight_us, seed=args.seed, ramp_peak_nA=args.ramp_peak_na,
                    smallest_p0_N=args.smallest_p0_n, p0_range=args.p0_range, length_mm=args.length_mm,
-                   record_dt_ms=args.record_dt_ms)
+                   record_dt_ms=args.record_dt_ms, muscle=args.muscle, substeps=args.substeps,
+                   nthread=args.nthread)
 
 
 def peak_rss_mib() -> float:
@@ -105,10 +114,10 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
     if nhost > cfg.n_units:
         raise InputError(f"{nhost} MPI ranks for a pool of {cfg.n_units} units: use at most one rank per unit")
     definition = PoolDefinition(cfg.n_units, load_parameters(cfg.params), smallest_p0_N=cfg.smallest_p0_N,
-                                p0_range=cfg.p0_range)
+                                p0_range=cfg.p0_range, muscle_model=cfg.muscle, muscle_substeps=cfg.substeps)
     definition.units()
     sim = Simulator(method=cfg.method, dt_ms=cfg.dt_ms, atol=cfg.atol, v_init_mV=-70.0, max_wall_s=None,
-                    local_dt=cfg.local_dt, label=f"pool of {cfg.n_units} units")
+                    local_dt=cfg.local_dt, nthread=cfg.nthread, label=f"pool of {cfg.n_units} units")
     from ..model.mechanisms import load_mechanisms
 
     load_mechanisms()
@@ -127,7 +136,8 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
     rss = [float(x) for x in pc.py_allgather(peak_rss_mib())]
     unit_s = cfg.n_units * cfg.duration_ms / 1000.0
     report = {"n_units": cfg.n_units, "ranks": nhost, "duration_ms": cfg.duration_ms,
-              "dt_ms": cfg.dt_ms if cfg.method == "fixed" else None, "method": cfg.method, "local_dt": cfg.local_dt, "drive": cfg.drive,
+              "dt_ms": cfg.dt_ms if cfg.method == "fixed" else None, "method": cfg.method, "muscle": cfg.muscle,
+              "substeps": cfg.substeps, "nthread": cfg.nthread, "local_dt": cfg.local_dt, "drive": cfg.drive,
               "startup_s": startup, "build_s": build, "sim_s": result.wall_s, "wall_s": wall,
               "s_per_unit_s": result.wall_s / unit_s, "spikes": int(sum(s.size for s in result.spikes_ms)),
               "peak_rss_mib": max(rss), "peak_rss_mib_per_rank": rss,

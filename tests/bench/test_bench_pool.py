@@ -30,8 +30,19 @@ def test_bench_pool_json_keys_and_consistency(capsys):
     assert len(table_lines(res)) == 4 + len(res["runs"])
 
 
+def test_bench_pool_fused_substeps_reach_the_pool(capsys):
+    assert main(["bench", "pool", "--json", "--units", "3", "--ranks", "1", "--duration-ms", "60", "--muscle",
+                 "fused", "--substeps", "2"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    (r,) = res["runs"]
+    assert (res["muscle"], res["substeps"]) == ("fused", 2) and (r["muscle"], r["substeps"]) == ("fused", 2)
+    assert r["spikes"] > 0 and "muscle fused (substeps 2)" in table_lines(res)[0]
+
+
 @pytest.mark.parametrize("kw", [dict(units=[1], ranks=[2]), dict(units=[0]), dict(ranks=[]),
-                                dict(units=[2], drive="sine")])
+                                dict(units=[2], drive="sine"), dict(units=[2], muscle="hill"),
+                                dict(units=[2], substeps=2), dict(units=[2], muscle="fused", substeps=0),
+                                dict(units=[2], nthread=0)])
 def test_bench_pool_refuses_bad_configurations(kw):
     with pytest.raises(InputError):
         bench_pool(**kw)

@@ -1,6 +1,6 @@
 """Pools under real MPI (``mpiexec -n 2`` in a subprocess): the same spikes and force, bit for bit, as on one rank
-(Poisson drive, current ramp, and the local variable time step); more ranks than units and a launcher NEURON did
-not join are refused with nothing written."""
+(Poisson drive, current ramp, the local variable time step, the fused muscle with and without substeps); more ranks
+than units and a launcher NEURON did not join are refused with nothing written."""
 
 import json
 import os
@@ -33,8 +33,11 @@ def _run(n_ranks, out, args):
 @pytest.mark.parametrize("args", [["--drive", "poisson", "--units", "6", "--duration-ms", "300"],
                                   ["--drive", "ramp", "--units", "6", "--duration-ms", "300"],
                                   ["--drive", "ramp", "--units", "3", "--duration-ms", "150", "--method", "cvode",
-                                   "--local-dt"]],
-                         ids=["poisson", "ramp", "local_dt"])
+                                   "--local-dt"],
+                                  ["--drive", "ramp", "--units", "6", "--duration-ms", "300", "--muscle", "fused"],
+                                  ["--drive", "poisson", "--units", "6", "--duration-ms", "300", "--muscle", "fused",
+                                   "--substeps", "4"]],
+                         ids=["poisson", "ramp", "local_dt", "fused", "fused_substeps"])
 def test_two_ranks_give_the_same_pool_as_one(tmp_path, args):
     one, rep1 = _run(1, tmp_path / "one.h5", args)
     two, rep2 = _run(2, tmp_path / "two.h5", args)

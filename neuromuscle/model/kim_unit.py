@@ -1,0 +1,110 @@
+"""Kim Modules 1-3 as one mechanism (mod/kim_unit.mod, KimUnit): the three-mechanism unit's numbers at lower cost.
+
+    unit = MuscleUnit(p, excitation=kim_fused())                         # the fused unit (no contraction slot)
+    unit = MuscleUnit(p, excitation=kim_fused(substeps=4))               # muscle updated every 4th membrane step
+
+The parameters are KimCalcium's, KimActivation's and KimForce's, read from a parameter set under their own names
+(kim_m1.K1, kim_m2.C1, kim_m3.P0), so the same set drives either unit.  The fused mechanism has no modulation
+ports: a model extension needs the three mechanisms (``MuscleUnit`` refuses the combination).  Units: ms, M, mm, N.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Mapping
+
+from ..errors import InputError
+from .component import Component, Param, Port, State
+from .kim import KimActivation, KimCalcium, KimForce
+
+_MODULES = (KimCalcium, KimActivation, KimForce)
+
+
+class KimUnit(Component):
+    """Modules 1-3 (eqs 1-12, 18-20) in one point process: receives spikes, outputs F (N).  ``substeps`` k >= 1:
+    under the fixed step the muscle advances once every k membrane steps by a step of k dt (k = 1: the
+    three-mechanism update bit for bit)."""
+
+    suffix = "KimUnit"
+    namespace = "kim_unit"
+    receives_spikes = True
+    output = "F"
+    parameters: tuple[Param, ...] = tuple(p for m in _MODULES for p in m.parameters)
+    reads = (Port("xm", "mm", "length.xm"), Port("vm", "mm/s", "length.vm"))
+    exposes = {**{k: v for m in _MODULES for k, v in m.exposes.items()}}
+    states = tuple(s for m in _MODULES for s in m.states)
+    _owner = {p.name: m for m in _MODULES for p in m.parameters}
+
+    def __init__(self, length_compensation: bool = True, movement_compensation: bool = False, substeps: int = 1,
+                 **overrides: float) -> None:
+        super().__init__(**overrides)
+        if isinstance(substeps, bool) or not isinstance(substeps, int) or substeps < 1:
+            raise InputError(f"KimUnit: substeps must be an integer >= 1, got {substeps!r}")
+        self.length_compensation = bool(length_compensation)
+        self.movement_depression = bool(movement_compensation)  # eq 19
+        self.lengthening_divisor = bool(movement_compensation)  # eq 20
+        self.substeps = substeps
+
+    @classmethod
+    def qualified(cls, name: str) -> str:
+        """The parameter's name in parameter sets: its module's (``kim_m1.K1``), as for the three mechanisms."""
+        return cls._owner[name].qualified(name)
+
+    def values(self, params: Mapping[str, float] | None) -> dict[str, float]:
+        """Every value from the parameter set (as the three Kim modules require) or an explicit override."""
+        missing = [self.qualified(p.name) for p in self.parameters
+                   if p.name not in self.overrides and (params is None or self.qualified(p.name) not in params)]
+        if missing:
+            raise InputError(f"parameter set {getattr(params, 'name', None)!r} lacks {', '.join(missing)} "
+                             "(needed by KimUnit)")
+        v = super().values(params)
+        if not v["c0"] > -v["P0"]:
+            raise InputError(f"KimUnit: c0 = {v['c0']:g} N must exceed -P0 = {-v['P0']:g} N (eq 11's asymptote "
+                             "(2 + c0/P0) Fc must lie above Fc); give a larger c0")
+        return v
+
+    @property
+    def movement_compensation(self) -> bool:
+        return self.movement_depression and self.lengthening_divisor
+
+    @property
+    def uses_movement_clock(self) -> bool:
+        """True when eq 19 or eq 20 is on: A changes at the movement onset (a CVODE event there)."""
+        return self.movement_depression or self.lengthening_divisor
+
+    def switches(self) -> dict[str, Any]:
+        return {"length_compensation": self.length_compensation, "movement_compensation":
+                self.movement_compensation, "eq19_movement_depression": self.movement_depression,
+                "eq20_lengthening_divisor": self.lengthening_divisor, "substeps": self.substeps}
+
+    def configure(self, params: Mapping[str, float] | None) -> None:
+        from neuron import h
+
+        self.obj.xopt = self.obj.g1  # eq 18's optimum is Module 3's optimal length (KimCalcium.configure)
+        self.obj.lencomp = 1.0 if self.length_compensation else 0.0
+        self.obj.movdep = 1.0 if self.movement_depression else 0.0
+        self.obj.lengdiv = 1.0 if self.lengthening_divisor else 0.0
+        self.obj.substeps = float(self.substeps)
+        # the Simulator sets the atolscale of the registered components' states; these are the same states
+        cv = h.CVode()
+        for s in self.states:
+            cv.atolscale(f"{self.suffix}.{s.name}", s.atolscale)
+
+    def set_movement_onset(self, onset_ms: float | None) -> None:
+        """Start eq 19's movement clock at onset_ms (ms); None: the muscle never moves."""
+        if onset_ms is not None:
+            self.obj.onset = float(onset_ms)
+
+    def asymptote_steps(self) -> int:
+        """Fixed (muscle) steps that ended beyond 95 % of the Mashima asymptote (the CE was yielding)."""
+        return int(self.obj.nasym)
+
+    input_warnings = KimForce.input_warnings
+
+
+def kim_fused(length_compensation: bool = True, movement_compensation: bool = False, substeps: int = 1,
+              **overrides: float) -> dict[str, Component]:
+    """Modules 1-3 as the one slot {"muscle": KimUnit} (give it as ``excitation``, with no ``contraction``)."""
+    return {"muscle": KimUnit(length_compensation, movement_compensation, substeps, **overrides)}
+
+
+COMPONENTS: tuple[type[Component], ...] = (KimUnit,)

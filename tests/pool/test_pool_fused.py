@@ -1,0 +1,45 @@
+"""Pools of fused muscle units (PoolDefinition(muscle_model="fused"), KimUnit): the same spikes and forces, bit for
+bit, as pools of the three Kim mechanisms; the muscle every k membrane steps stays within a stated error of the
+every-step pool; impossible combinations are refused.  (Two MPI ranks: tests/pool/test_mpi.py.)"""
+
+import numpy as np
+import pytest
+
+from neuromuscle.errors import InputError
+from neuromuscle.pool import Pool, PoolDefinition
+
+
+def _ramp_pool(ct09, **kw):
+    d = PoolDefinition(6, ct09, smallest_p0_N=0.2, p0_range=20.0, **kw)
+    with Pool(d) as pool:
+        pool.drive_current_ramp([0.0, 500.0], [0.0, 15.0])
+        return pool.run(500.0)
+
+
+@pytest.fixture(scope="module")
+def modules_run(ct09):
+    return _ramp_pool(ct09)
+
+
+def test_fused_pool_is_bit_identical_to_the_modules_pool(ct09, modules_run):
+    fused = _ramp_pool(ct09, muscle_model="fused")
+    assert sum(s.size for s in modules_run.spikes_ms) > 20 and modules_run.pool_force_N.max() > 0.5
+    assert all(np.array_equal(a, b) for a, b in zip(modules_run.spikes_ms, fused.spikes_ms))
+    assert np.array_equal(modules_run.unit_force_N, fused.unit_force_N)
+
+
+def test_substeps_error_is_small_and_grows_with_k(ct09, modules_run):
+    peak = modules_run.pool_force_N.max()
+    errs = [np.max(np.abs(_ramp_pool(ct09, muscle_model="fused", muscle_substeps=k).pool_force_N
+                          - modules_run.pool_force_N)) / peak for k in (2, 8)]
+    assert 0 < errs[0] < errs[1] < 0.01  # measured: see README, "Motoneuron pools", speed
+
+
+@pytest.mark.parametrize("bad, message", [(dict(muscle_model="hill"), "muscle_model"),
+                                          (dict(muscle_substeps=4), "needs muscle_model='fused'"),
+                                          (dict(muscle_model="fused", muscle_substeps=0), "muscle_substeps"),
+                                          (dict(muscle_model="fused", extensions={"all": {"fatigue": {}}}),
+                                           "extensions need")])
+def test_impossible_fused_definitions_are_refused(ct09, bad, message):
+    with pytest.raises(InputError, match=message):
+        PoolDefinition(3, ct09, **bad)
