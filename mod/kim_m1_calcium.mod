@@ -72,6 +72,7 @@ PARAMETER {
 
 ASSIGNED {
     atilp (1)
+    fresh (1)
     atx (1)
     dt (ms)
     atil (1)
@@ -128,7 +129,7 @@ INITIAL {
     S12 = 0
     nspike = 0
     hc = -1
-    atilp = atil
+    fresh = 1
     atx = atil
     rates_coeffs()
 }
@@ -245,6 +246,11 @@ PROCEDURE implicit_step(h (ms)) {
     : Atil at the step's middle, extrapolated from its last two values (KimAct advances after this mechanism):
     : K6's cooperativity then lags by O(dt^2), not O(dt)
     a0 = atil
+    if (fresh) {
+        : the run's first step: no previous value (INITIAL ran before KimAct set Atil)
+        atilp = a0
+        fresh = 0
+    }
     atx = a0 + 0.5*(a0 - atilp)
     if (atx < 0) {
         atx = 0

@@ -109,6 +109,9 @@ PARAMETER {
 }
 
 ASSIGNED {
+    atilp (1)
+    atx (1)
+    fresh (1)
     v (mV)      : declared for modlunit, which asks it of a point process with GLOBALs; not used
     dt (ms)
     xm (mm)
@@ -187,6 +190,8 @@ INITIAL {
     S12 = 0
     nspike = 0
     hc = -1
+    fresh = 1
+    atx = atil
     kcount = 0
     zeroed = 0
     rates_coeffs()
@@ -331,7 +336,7 @@ PROCEDURE rates_coeffs() {
     } else {
         K5 = K5i
     }
-    K6 = K6i/(1 + 5*atil)
+    K6 = K6i/(1 + 5*atx)
 }
 
 FUNCTION pump(c (M)) (M/ms) {
@@ -360,6 +365,7 @@ FUNCTION dpump(c (M)) (/ms) {
 PROCEDURE exact_rhs() {
     : KimCa's CVODE right-hand side with the pump's tangent on the diagonal (rg = ug = 1: no ports)
     LOCAL r, tau12, up
+    atx = atil
     rates_coeffs()
     tau12 = 1/(1/tau1 + 1/tau2)
     r = 1*Rmax*(S2 - S12)
@@ -385,6 +391,16 @@ PROCEDURE exact_rhs() {
 PROCEDURE implicit_step(h (ms)) {
     : KimCa's linearly implicit step (rg = ug = 1), applied to the states (intermediates are LOCALs: no stores)
     LOCAL k6, k7, tau12, e2, e12, r, y1, y3, f1, f2, f3, f4, f5, J11, J12, J13, J21, J22, J31, J33, J34, J35, J43, J44, J53, J55, d2, d4, d5, m11, m13, m31, m33, c1, c3, det, D1, D2, D3, D4, D5, Up
+    : K6 reads Atil extrapolated to the step's middle (as KimCa: Atil here is still the step's start value)
+    if (fresh) {
+        atilp = atil
+        fresh = 0
+    }
+    atx = atil + 0.5*(atil - atilp)
+    if (atx < 0) {
+        atx = 0
+    }
+    atilp = atil
     rates_coeffs()
     if (h != hc) {
         tau12 = 1/(1/tau1 + 1/tau2)

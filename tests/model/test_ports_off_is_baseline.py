@@ -15,7 +15,8 @@ when the numerics change on purpose, and say so in the commit):
   aborted on an assertion when an accumulated record time fell a rounding error short of a played breakpoint),
   and the movement clock under CVODE starts just after the onset: traces moved by at most 3e-11 of peak;
 - Module 1's fixed step then read Atil extrapolated to the step's middle for K6 (the twitch peak's error against
-  SciPy fell from 0.078 % to 0.011 %): fixed-step traces moved, CVODE unchanged.
+  SciPy fell from 0.078 % to 0.011 %): fixed-step traces moved, CVODE unchanged (regenerated again when its
+  first step stopped reading the previous run's Atil).
 """
 
 from pathlib import Path
