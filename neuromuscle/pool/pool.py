@@ -29,6 +29,7 @@ from ..model.kim_unit import kim_fused
 from ..model.unit import MuscleUnit
 from ..protocols.lengths import LengthTrace
 from ..sim import Simulator
+from ..sim.recordings import sample_times_ms
 from ..validate import check_spike_times, finite_number, nonnegative_number, positive_number, seed_value
 from .definition import PoolDefinition, UnitSpec
 from .motoneuron import Motoneuron
@@ -116,7 +117,9 @@ class Pool:
     def _new_length(self, h: Any, sec: Any) -> Any:
         ml = h.MuscleLength(sec(0.5))
         if isinstance(self.length, LengthTrace):
-            tv, xv, vv = h.Vector(self.length.t_ms), h.Vector(self.length.xm_mm), h.Vector(self.length.velocity_mm_s)
+            # times on the recordings' 1e-9 ms grid (sim.recordings.sample_times_ms)
+            tv = h.Vector(np.round(self.length.t_ms, 9))
+            xv, vv = h.Vector(self.length.xm_mm), h.Vector(self.length.velocity_mm_s)
             xv.play(ml._ref_xm, tv, 1)
             vv.play(ml._ref_vm, tv, 1)
             self._keep.extend([tv, xv, vv])
@@ -213,9 +216,17 @@ class Pool:
 
             sim = replace(sim, v_init_mV=-70.0)
         vecs = {gid: h.Vector() for gid in self.muscle}
+        # under CVODE at explicit sample times (see sim.recordings.Recorder: NEURON 9.0.2 aborts when an interval
+        # recording's accumulated time falls a rounding error short of a played breakpoint)
+        times = None
+        if sim.method == "cvode":
+            times = h.Vector(sample_times_ms(record_dt_ms, int(np.floor(duration_ms / record_dt_ms + 1e-9)) + 1))
         for gid, v in vecs.items():
             u = self.muscle[gid]
-            v.record(u[u.output_slot].obj, u.ref(u.output), record_dt_ms)
+            if times is None:
+                v.record(u[u.output_slot].obj, u.ref(u.output), record_dt_ms)
+            else:
+                v.record(u[u.output_slot].obj, u.ref(u.output), times)
         pc = parallel_context()
         wall = sim.run(duration_ms, units=list(self.muscle.values()))
         n = int(np.floor(duration_ms / record_dt_ms + 1e-9)) + 1
