@@ -29,7 +29,7 @@ from ..model.kim_unit import kim_fused
 from ..model.unit import MuscleUnit
 from ..protocols.lengths import LengthTrace
 from ..sim import Simulator
-from ..sim.recordings import sample_times_ms
+from ..sim.recordings import on_time_grid, sample_count, sample_times_ms
 from ..validate import check_spike_times, finite_number, nonnegative_number, positive_number, seed_value
 from .definition import PoolDefinition, UnitSpec
 from .motoneuron import Motoneuron
@@ -118,7 +118,7 @@ class Pool:
         ml = h.MuscleLength(sec(0.5))
         if isinstance(self.length, LengthTrace):
             # times on the recordings' 1e-9 ms grid (sim.recordings.sample_times_ms)
-            tv = h.Vector(np.round(self.length.t_ms, 9))
+            tv = h.Vector(on_time_grid(self.length.t_ms))
             xv, vv = h.Vector(self.length.xm_mm), h.Vector(self.length.velocity_mm_s)
             xv.play(ml._ref_xm, tv, 1)
             vv.play(ml._ref_vm, tv, 1)
@@ -220,7 +220,7 @@ class Pool:
         # recording's accumulated time falls a rounding error short of a played breakpoint)
         times = None
         if sim.method == "cvode":
-            times = h.Vector(sample_times_ms(record_dt_ms, int(np.floor(duration_ms / record_dt_ms + 1e-9)) + 1))
+            times = h.Vector(sample_times_ms(record_dt_ms, sample_count(duration_ms, record_dt_ms)))
         for gid, v in vecs.items():
             u = self.muscle[gid]
             if times is None:
@@ -229,7 +229,7 @@ class Pool:
                 v.record(u[u.output_slot].obj, u.ref(u.output), times)
         pc = parallel_context()
         wall = sim.run(duration_ms, units=list(self.muscle.values()))
-        n = int(np.floor(duration_ms / record_dt_ms + 1e-9)) + 1
+        n = sample_count(duration_ms, record_dt_ms)
         local_force = {gid: _fixed_length(np.array(v), n) for gid, v in vecs.items()}
         if self._drive == "discharges":
             local_spikes = {gid: self._discharges[gid] for gid in self.muscle}

@@ -10,10 +10,20 @@ import numpy as np
 from ..errors import InputError
 
 
+def on_time_grid(t_ms: np.ndarray) -> np.ndarray:
+    """Times (ms) rounded to the 1e-9 ms grid that recordings and played lengths share."""
+    return np.round(np.asarray(t_ms, dtype=float), 9)
+
+
+def sample_count(duration_ms: float, record_dt_ms: float) -> int:
+    """How many samples k * record_dt_ms (ms) lie in 0..duration_ms (ms), both ends included."""
+    return int(np.floor(duration_ms / record_dt_ms + 1e-9)) + 1
+
+
 def sample_times_ms(record_dt_ms: float, n: int) -> np.ndarray:
     """The n sample times k * record_dt_ms (ms), rounded to 1e-9 ms: the same grid as played lengths (run.py),
     so a sample and a breakpoint meant to coincide are the same double."""
-    return np.round(np.arange(n) * record_dt_ms, 9)
+    return on_time_grid(np.arange(n) * record_dt_ms)
 
 
 class Recorder:
@@ -51,8 +61,7 @@ class Recorder:
             # explicit sample times, rounded to 1e-9 ms like the played length's times: NEURON 9.0.2's CVODE
             # aborts the process (an assertion in NetCvode::global_microstep) when an interval recording's
             # accumulated time, k * 0.025 ms, falls a rounding error short of a time where the integrator stopped
-            n = int(np.floor(at_times_until_ms / record_dt_ms + 1e-9)) + 1
-            self._tvec = h.Vector(sample_times_ms(record_dt_ms, n))
+            self._tvec = h.Vector(sample_times_ms(record_dt_ms, sample_count(at_times_until_ms, record_dt_ms)))
         for n, v in self._vectors.items():
             # the point process first: it tells NEURON which thread owns the variable
             owner = unit[n.partition(".")[0]].obj
@@ -68,7 +77,7 @@ class Recorder:
         whatever the integrator (NEURON's interval recording may stop one sample short of tstop, depending on
         rounding and on the method), and the traces at those times.  Call right after the run: a missing last
         sample is the variable's value at the end of the run."""
-        n = int(np.floor(duration_ms / self.record_dt_ms + 1e-9)) + 1
+        n = sample_count(duration_ms, self.record_dt_ms)
         out = {}
         for k, v in self._vectors.items():
             a = np.array(v)[::self._stride]

@@ -13,7 +13,7 @@ from ..parameters import ParameterSet
 from ..protocols.lengths import LengthTrace, as_length_trace
 from ..validate import check_spike_times
 from .provenance import provenance
-from .recordings import Recorder
+from .recordings import Recorder, on_time_grid
 from .results import SimulationResult
 from .simulator import Simulator
 
@@ -102,7 +102,7 @@ def _run(unit: MuscleUnit, spikes: np.ndarray, trace: LengthTrace, duration_ms: 
         t_ms = np.append(t_ms, duration_ms + 1.0)
         xm = np.append(xm, xm[-1] + vm[-1] * (duration_ms + 1.0 - trace.t_ms[-1]) / 1000.0)
         vm = np.append(vm, vm[-1])
-    tvec, xvec, vvec = h.Vector(np.round(t_ms, 9)), h.Vector(xm), h.Vector(vm)  # the recordings' time grid
+    tvec, xvec, vvec = h.Vector(on_time_grid(t_ms)), h.Vector(xm), h.Vector(vm)  # the recordings' time grid
     unit.length.xm = float(trace.xm_mm[0])
     unit.length.vm = float(trace.velocity_mm_s[0])
     if not trace.is_isometric:
