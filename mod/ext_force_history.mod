@@ -27,7 +27,7 @@ NEURON {
     POINT_PROCESS ExtForceHistory
     THREADSAFE
     RANGE k, L, tau, sgn, offset, Fse, w
-    POINTER xm, vm, xce, P0, KSE
+    POINTER xm, vm, dxce, x0, P0, KSE
 }
 
 PARAMETER {
@@ -40,7 +40,8 @@ PARAMETER {
 ASSIGNED {
     xm (mm)
     vm (mm/s)
-    xce (mm)
+    dxce (mm)
+    x0 (mm)
     P0 (N)
     KSE (/mm)
     offset (N)
@@ -68,7 +69,7 @@ DERIVATIVE states {
 }
 
 PROCEDURE drive() {
-    Fse = P0*KSE*(xm - xce)
+    Fse = P0*KSE*(xm - x0 - dxce)
     if (Fse < 0) {
         Fse = 0
     }

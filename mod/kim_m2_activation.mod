@@ -35,7 +35,7 @@ NEURON {
     THREADSAFE
     RANGE C1, C2, C3, C4, C5, alpha, alpha1, alpha2, alpha3, beta, gamma
     RANGE movdep, lengdiv, onset, Afloor, unity, use_ports, rest
-    RANGE A, alpha_t, Ainf, tauA, atil0
+    RANGE A, alpha_t, Ainf, tauA, atil0, asw, ssw
     POINTER caspt, xm, vm, T0, phi1, phi2, xopt, tauA_gain
     RANGE T0c, phi1c, phi2c, xoptc
 }
@@ -85,6 +85,11 @@ ASSIGNED {
     Ainf (1)
     tauA (ms)
     kA (/ms)
+    ab (1)
+    asw (1)
+    ssw (1)
+    xmp (mm)
+    vmp (mm/s)
 }
 
 STATE {
@@ -106,6 +111,10 @@ INITIAL {
         atil = atil0
     }
     activation(t, 0)
+    xmp = xm
+    vmp = vm
+    ssw = 0
+    asw = A
 }
 
 BREAKPOINT {
@@ -125,6 +134,9 @@ DERIVATIVE states {
         : at the step's midpoint, so the step that ends at the onset still runs without eqs 19-20 (as the
         : continuous model and CVODE do) instead of one step early
         activation(t - 0.5*dt, 0)
+        switch_in_step(t - 0.5*dt >= onset)
+        xmp = xm
+        vmp = vm
     }
 }
 
@@ -166,6 +178,7 @@ PROCEDURE activation(tc (ms), strict (1)) {
     } else {
         A = pow(at, alpha_t)
     }
+    ab = A
     if (lengdiv && mv) {
         : eq 20: lengthening at or below the optimum
         if (xm <= xoptc && vm >= 0) {
@@ -182,6 +195,77 @@ PROCEDURE activation(tc (ms), strict (1)) {
         if (A < Afloor) {
             A = Afloor
         }
+    }
+}
+
+PROCEDURE switch_in_step(mv (1)) {
+    : fixed step: where eq 20 switches within the step, for KimForce (which then integrates the step in two
+    : parts): the played length and velocity are linear over the step (from the previous step's end values,
+    : exactly as NEURON interpolates them between breakpoints on the step grid); ssw (1, in (0, 1)) is the
+    : fraction of the step at which the condition Xm <= xopt, Vm >= 0 starts or stops holding, and asw the
+    : activation before it (undivided, or divided at the middle of the part before); A, as always, is the
+    : activation at the step's end.  ssw = 0: no switch within the step (asw = A).
+    LOCAL c0, c1, lo, hi, r
+    ssw = 0
+    asw = A
+    if (lengdiv && mv) {
+        c0 = xmp <= xoptc && vmp >= 0
+        c1 = xm <= xoptc && vm >= 0
+        if (c0 != c1) {
+            : the part [lo, hi] of the step where both linear conditions hold
+            lo = 0
+            hi = 1
+            UNITSOFF
+            if (xm != xmp) {
+                r = (xoptc - xmp)/(xm - xmp)
+                if (xm > xmp) {
+                    if (r < hi) {
+                        hi = r
+                    }
+                } else if (r > lo) {
+                    lo = r
+                }
+            }
+            if (vm != vmp) {
+                r = -vmp/(vm - vmp)
+                if (vm < vmp) {
+                    if (r < hi) {
+                        hi = r
+                    }
+                } else if (r > lo) {
+                    lo = r
+                }
+            }
+            UNITSON
+            if (c1) {
+                : switched on at lo
+                ssw = lo
+                asw = ab
+            } else {
+                : switched off at hi
+                ssw = hi
+                asw = ab*divided(xmp + 0.5*hi*(xm - xmp), vmp + 0.5*hi*(vm - vmp))
+            }
+            if (movdep && asw < Afloor) {
+                asw = Afloor
+            }
+            if (ssw <= 0 || ssw >= 1) {
+                ssw = 0
+                asw = A
+            }
+        }
+    }
+}
+
+FUNCTION divided(x (mm), v (mm/s)) (1) {
+    : eq 20's factor 1/((1 + beta phi(Xm)) (1 + gamma Vm)) at Xm = x, Vm = v; 0 for a non-positive divisor
+    LOCAL ph, dv
+    ph = phi1c*x + phi2c
+    dv = (1 + beta*ph)*(1 + gamma*v)
+    if (dv > 0) {
+        divided = 1/dv
+    } else {
+        divided = 0
     }
 }
 

@@ -35,6 +35,13 @@ corrector failed or crawled at h ~ 1e-7 ms.  Fc = 0 (no activation at all) is le
 published set's resting Fc is far above the floor (CT09: 0.0036 P0), so their numbers do not move.
 (neuromuscle.analysis.module3.FC_FLOOR is the same number for the SciPy twin.)
 
+The CE state is its length change since INITIAL, dxce = XCE - x0 (mm; x0 the muscle length at INITIAL), and XCE
+= x0 + dxce (RANGE xce, read by extensions).  The model is the same; the reason is CVODE's error test, which
+weighs each state's error by rtol |y| + atol: with XCE itself as the state (|XCE| ~ 10 mm) rtol 1e-6 let the CE
+length err by 1e-5 mm, i.e. P0 KSE 1e-5 ~ 1e-4 N of force whatever the force, up to 4.8 % of the peak of a weakly
+activated unit (sweep draws 7 and 23: a ramp's onset; 0.009 % with dxce).  |dxce| is of the order of the SE's
+extension plus the length change, so rtol now acts on the force's own scale.
+
 Coupling: POINTER act -> activation A (1) of an excitation mechanism (KimAct, or any model exposing A);
           POINTER xm   -> muscle length (mm) of a MuscleLength point process;
           POINTER force_offset -> modulation port (N): a history-dependent element in parallel with the CE-SE
@@ -51,8 +58,8 @@ NEURON {
     POINT_PROCESS KimForce
     THREADSAFE
     RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, fcmin, F0, zero, use_ports, rest
-    RANGE F, Fse, Fc, vce, nasym
-    POINTER act, xm, force_offset
+    RANGE F, Fse, Fc, vce, nasym, xce, x0, subtol, nsubmax, nsub, nsplit
+    POINTER act, xm, force_offset, asw, ssw
 }
 
 PARAMETER {
@@ -68,6 +75,8 @@ PARAMETER {
     asym = 0.95 (1)
     lincurv = 0.02 (1)
     fcmin = 1e-4 (1)
+    subtol = 1e-3 (1)
+    nsubmax = 16 (1)
     F0 = 0 (N)
     zero = 0 (N)
     use_ports = 0 (1)
@@ -79,6 +88,8 @@ ASSIGNED {
     act (1)
     xm (mm)
     force_offset (N)
+    asw (1)
+    ssw (1)
     F (N)
     Fse (N)
     Fc (N)
@@ -95,25 +106,37 @@ ASSIGNED {
     gc (1)
     xl (mm)
     al (1)
+    xce (mm)
+    x0 (mm)
+    xlp (mm)
+    nsub (1)
+    nsplit (1)
+    sw (1)
 }
 
 STATE {
-    xce (mm)
+    dxce (mm)
 }
 
 INITIAL {
     xl = xm
     al = act
     xmc = 1e9
-    xce = xl
+    x0 = xl
+    dxce = 0
+    xce = x0
     se_force()
     if (rest) {
         : isometric equilibrium with the initial activation: the SE carries the CE's force Fc (no creep)
-        xce = xl - Fc/(P0*KSE)
+        dxce = -Fc/(P0*KSE)
     } else {
-        xce = xl - F0/(P0*KSE)
+        dxce = -F0/(P0*KSE)
     }
+    xce = x0 + dxce
     nasym = 0
+    nsub = 0
+    nsplit = 0
+    xlp = xl
     se_force()
 }
 
@@ -123,8 +146,10 @@ BREAKPOINT {
         : fixed step: report F and vce of the updated CE state (the DERIVATIVE block's are the step's start)
         xl = xm
         al = act
+        xce = x0 + dxce
         se_force()
         velocity()
+        xlp = xl
     }
 }
 
@@ -132,52 +157,165 @@ DERIVATIVE states {
     : the POINTERs are read once per evaluation into xl, al
     xl = xm
     al = act
+    xce = x0 + dxce
     se_force()
     velocity()
     kse = P0*KSE
+    if (cvode_on()) {
+        : taut SE (or just taut and being taken up): F depends on xce; slack: it does not
+        if (xl - xce > 0 || (xl - xce == 0 && vce < 0)) {
+            dfdx = -kse*dvdF/(1000)
+        } else {
+            dfdx = 0
+        }
+        bb = -dfdx
+        aa = vce/(1000) + bb*dxce
+    } else {
+        bb = 0
+        sw = 0
+        if (nrn_pointing(ssw)) {
+            sw = ssw
+        }
+        if (sw > 0 && sw < 1) {
+            split_step()
+        } else {
+            ce_step(dt)
+            if (nsubmax > 1 && Fc > 0) {
+                check_step(dt, xlp)
+            }
+        }
+    }
+    dxce' = aa - bb*dxce
+    se_force()
+}
+
+PROCEDURE ce_step(h (ms)) {
+    : one fixed step of length h of the CE from xce at the length xl (F, vce, dvdF of that state already set):
+    : aa (mm/ms) = the CE's mean velocity over the step
     : taut SE (or just taut and being taken up): F depends on xce; slack: it does not
     if (xl - xce > 0 || (xl - xce == 0 && vce < 0)) {
         dfdx = -kse*dvdF/(1000)
     } else {
         dfdx = 0
     }
-    if (cvode_on()) {
-        bb = -dfdx
-        aa = vce/(1000) + bb*xce
-    } else {
-        : one linearly implicit step: D = h f/(1 - h df/dxce)
-        aa = (vce/(1000))/(1 - dt*dfdx)
-        if (xl - xce < 0 && xce + dt*aa < xl) {
-            : slack taken up within the step: stop where the SE becomes taut (no overshoot into the
-            : stiff region by an explicit step)
-            aa = (xl - xce)/dt
-        }
-        bb = 0
-        if (Fc > 0) {
-            fend = kse*(xl - xce - dt*aa)
-            Fasym = (2 + c0/P0)*Fc
-            if (fend > Fc + asym*(Fasym - Fc)) {
-                : the step would end on the steep saturation: backward Euler there (no overshoot)
-                implicit_step(dt)
-                nasym = nasym + 1
-            } else if ((fend > Fc || Fse > Fc) && fabs((fend - Fse)/(1 (N))) > lincurv*(Fasym - fmax(fend, Fse))/(1 (N))) {
-                : on eq 11 the force moves by more than lincurv of its distance to the pole within the step:
-                : the linearised step is poor there (fast eccentric motion); backward Euler is not
-                implicit_step(dt)
-            } else if (fend < Fc && Fse < Fc && fabs((fend - Fse)/(1 (N))) > lincurv*(fmin(fend, Fse) + a0*Fc/P0)/(1 (N))) {
-                : likewise on eq 10, whose pole is at F = -a0 Fc/P0: at low activation the Hill hyperbola bends
-                : within a step and a linearised step overshoots into oscillation (a nearly silent unit moved)
-                implicit_step(dt)
-            } else if (Fse <= 0 || fend <= 0) {
-                : slack, or at the SE's slack/taut boundary, where the Hill hyperbola bends sharply (pole at
-                : F = -a0 Fc/P0): a linearised step (or stopping where the SE becomes taut) stalls at F = 0
-                : while the CE should take up the slack and load the SE; backward Euler does not stall
-                implicit_step(dt)
-            }
+    : one linearly implicit step: D = h f/(1 - h df/dxce)
+    aa = (vce/(1000))/(1 - h*dfdx)
+    if (xl - xce < 0 && xce + h*aa < xl) {
+        : slack taken up within the step: stop where the SE becomes taut (no overshoot into the
+        : stiff region by an explicit step)
+        aa = (xl - xce)/h
+    }
+    if (Fc > 0) {
+        fend = kse*(xl - xce - h*aa)
+        Fasym = (2 + c0/P0)*Fc
+        if (fend > Fc + asym*(Fasym - Fc)) {
+            : the step would end on the steep saturation: backward Euler there (no overshoot)
+            implicit_step(h)
+            nasym = nasym + 1
+        } else if ((fend > Fc || Fse > Fc) && fabs((fend - Fse)/(1 (N))) > lincurv*(Fasym - fmax(fend, Fse))/(1 (N))) {
+            : on eq 11 the force moves by more than lincurv of its distance to the pole within the step:
+            : the linearised step is poor there (fast eccentric motion); backward Euler is not
+            implicit_step(h)
+        } else if (fend < Fc && Fse < Fc && fabs((fend - Fse)/(1 (N))) > lincurv*(fmin(fend, Fse) + a0*Fc/P0)/(1 (N))) {
+            : likewise on eq 10, whose pole is at F = -a0 Fc/P0: at low activation the Hill hyperbola bends
+            : within a step and a linearised step overshoots into oscillation (a nearly silent unit moved)
+            implicit_step(h)
+        } else if (Fse <= 0 || fend <= 0) {
+            : slack, or at the SE's slack/taut boundary, where the Hill hyperbola bends sharply (pole at
+            : F = -a0 Fc/P0): a linearised step (or stopping where the SE becomes taut) stalls at F = 0
+            : while the CE should take up the slack and load the SE; backward Euler does not stall
+            implicit_step(h)
         }
     }
-    xce' = aa - bb*xce
+}
+
+PROCEDURE check_step(h (ms), xla (mm)) {
+    : the local error of the step of length h just taken by ce_step (aa), estimated as half the change of the
+    : CE velocity over it times k h (N, first order); above subtol times the force's scale the step is redone
+    : as n = 1 + floor(err/(subtol scale)) (at most nsubmax) substeps of h/n along the length interpolated
+    : from xla (the length at the step's start) to xl (a fast transient: A jumping at eq 20's switch at low
+    : activation, where the CE-SE loop settles within a fraction of a step)
+    LOCAL v0, fs0, xs, xle, err, sc, n, i, nas, fe
+    v0 = vce
+    fs0 = Fse
+    xs = xce
+    fe = kse*(xl - xce - h*aa)
+    if (fe < 0) {
+        fe = 0
+    }
+    Fse = fe
+    velocity()
+    UNITSOFF
+    err = 0.5*kse*h*fabs(v0 - vce)/1000
+    sc = fmax(fmax(fs0, fe), Fc)
+    UNITSON
+    if (err > subtol*sc) {
+        n = 1 + floor(err/(subtol*sc))
+        if (n > nsubmax) {
+            n = nsubmax
+        }
+        nsub = nsub + 1
+        nas = nasym
+        xle = xl
+        i = 1
+        WHILE (i <= n) {
+            xl = xla + (xle - xla)*i/n
+            se_force()
+            velocity()
+            ce_step(h/n)
+            xce = xce + h/n*aa
+            i = i + 1
+        }
+        aa = (xce - xs)/h
+        if (nasym > nas) {
+            nasym = nas + 1
+        }
+        xce = xs
+        xl = xle
+        se_force()
+    } else {
+        Fse = fs0
+    }
+    velocity()
+}
+
+PROCEDURE split_step() {
+    : fixed step across eq 20's switch at sw dt (KimAct's ssw): the CE advanced first with the activation before
+    : it (KimAct's asw) over sw dt to the length interpolated there, then with A over the rest; aa is the mean
+    : velocity over the whole step
+    LOCAL xs, xle, ale, h1, xl1, nas
+    nsplit = nsplit + 1
+    nas = nasym
+    xs = xce
+    xle = xl
+    ale = al
+    h1 = sw*dt
+    xl1 = xlp + (xle - xlp)*sw
+    al = asw
+    xl = xl1
     se_force()
+    velocity()
+    ce_step(h1)
+    if (nsubmax > 1 && Fc > 0) {
+        check_step(h1, xlp)
+    }
+    xce = xce + h1*aa
+    al = ale
+    xl = xle
+    se_force()
+    velocity()
+    ce_step(dt - h1)
+    if (nsubmax > 1 && Fc > 0) {
+        check_step(dt - h1, xl1)
+    }
+    xce = xce + (dt - h1)*aa
+    aa = (xce - xs)/dt
+    xce = xs
+    if (nasym > nas) {
+        nasym = nas + 1
+    }
+    se_force()
+    velocity()
 }
 
 FUNCTION fmin(a (N), b (N)) (N) {

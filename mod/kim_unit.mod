@@ -36,10 +36,10 @@ NEURON {
     : Module 2
     RANGE C1, C2, C3, C4, C5, alpha, alpha1, alpha2, alpha3, beta, gamma
     RANGE movdep, lengdiv, onset, Afloor, atil0
-    RANGE A, alpha_t, Ainf, tauA
+    RANGE A, alpha_t, Ainf, tauA, asw, ssw
     : Module 3
-    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, fcmin, F0
-    RANGE F, Fse, Fc, vce, nasym
+    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, fcmin, F0, subtol, nsubmax
+    RANGE F, Fse, Fc, vce, nasym, xce, x0, nsub, nsplit
     : the unit
     RANGE rest, substeps
     : intermediates set and used within one instance's evaluation: per-thread GLOBALs, not per-instance fields
@@ -103,12 +103,26 @@ PARAMETER {
     asym = 0.95 (1)
     lincurv = 0.02 (1)
     fcmin = 1e-4 (1)
+    subtol = 1e-3 (1)
+    nsubmax = 16 (1)
     F0 = 0 (N)
     rest = 1 (1)
     substeps = 1 (1)
 }
 
 ASSIGNED {
+    xce (mm)
+    x0 (mm)
+    xlp (mm)
+    xmp (mm)
+    vmp (mm/s)
+    ab (1)
+    asw (1)
+    ssw (1)
+    sw (1)
+    acs (mm/ms)
+    nsub (1)
+    nsplit (1)
     atilp (1)
     atx (1)
     fresh (1)
@@ -166,7 +180,7 @@ STATE {
     S2 (1)
     S12 (1)
     atil (1)
-    xce (mm)
+    dxce (mm)
 }
 
 INITIAL {
@@ -203,17 +217,27 @@ INITIAL {
         atil = atil0
     }
     activation(t, 0)
+    xmp = xl
+    vmp = vm
+    ssw = 0
+    asw = A
     : Module 3 (KimForce's INITIAL)
     al = A
     xmc = 1e9
-    xce = xl
+    x0 = xl
+    dxce = 0
+    xce = x0
     se_force()
     if (rest) {
-        xce = xl - Fc/(P0*KSE)
+        dxce = -Fc/(P0*KSE)
     } else {
-        xce = xl - F0/(P0*KSE)
+        dxce = -F0/(P0*KSE)
     }
+    xce = x0 + dxce
     nasym = 0
+    nsub = 0
+    nsplit = 0
+    xlp = xl
     se_force()
 }
 
@@ -251,7 +275,7 @@ DERIVATIVE states {
     S2' = a6 - b6*S2
     S12' = a7 - b7*S12
     atil' = (Ainf - atil)*kAd
-    xce' = aa - bb*xce
+    dxce' = aa - bb*dxce
     if (cvode_on()) {
         : KimForce's DERIVATIVE ends with se_force() (its CVODE output F)
         se_force()
@@ -261,6 +285,7 @@ DERIVATIVE states {
 PROCEDURE rhs_all() {
     : CVODE: KimCa's, KimAct's and KimForce's DERIVATIVE blocks in registration order
     zeroed = 0
+    xce = x0 + dxce
     exact_rhs()
     rates()
     kAd = kA
@@ -275,50 +300,40 @@ PROCEDURE rhs_all() {
         dfdx = 0
     }
     bb = -dfdx
-    aa = vce/(1000) + bb*xce
+    aa = vce/(1000) + bb*dxce
 }
 
 PROCEDURE step_all(h (ms)) {
     : one fixed step of length h of the three modules, states assigned here (h = dt: the three mechanisms'
     : expressions exactly)
-    LOCAL ks, fe, fa, ac
     : Module 1
     implicit_step(h)
     : Module 2: KimAct's cnexp update as nocmodl writes it, then eq 19-20 at the step's midpoint
     rates()
     atil = atil + (1 - exp(h*(-kA)))*(-(Ainf*kA)/(-kA) - atil)
     activation(t - 0.5*h, 0)
+    switch_in_step(t - 0.5*h >= onset)
+    xmp = xl
+    vmp = vm
     : Module 3: KimForce's DERIVATIVE block (fixed-step branch), then its BREAKPOINT's report at the step's end
     al = A
     se_force()
     velocity()
-    ks = P0*KSE
-    if (xl - xce > 0 || (xl - xce == 0 && vce < 0)) {
-        dfdx = -ks*dvdF/(1000)
+    kse = P0*KSE
+    sw = ssw
+    if (sw > 0 && sw < 1) {
+        split_step(h)
     } else {
-        dfdx = 0
-    }
-    ac = (vce/(1000))/(1 - h*dfdx)
-    if (xl - xce < 0 && xce + h*ac < xl) {
-        ac = (xl - xce)/h
-    }
-    if (Fc > 0) {
-        fe = ks*(xl - xce - h*ac)
-        fa = (2 + c0/P0)*Fc
-        if (fe > Fc + asym*(fa - Fc)) {
-            ac = ce_backward_euler(h, ks)
-            nasym = nasym + 1
-        } else if ((fe > Fc || Fse > Fc) && fabs((fe - Fse)/(1 (N))) > lincurv*(fa - fmax(fe, Fse))/(1 (N))) {
-            ac = ce_backward_euler(h, ks)
-        } else if (fe < Fc && Fse < Fc && fabs((fe - Fse)/(1 (N))) > lincurv*(fmin(fe, Fse) + a0*Fc/P0)/(1 (N))) {
-            ac = ce_backward_euler(h, ks)
-        } else if (Fse <= 0 || fe <= 0) {
-            ac = ce_backward_euler(h, ks)
+        ce_step(h)
+        if (nsubmax > 1 && Fc > 0) {
+            check_step(h, xlp)
         }
     }
-    xce = xce + h*ac
+    dxce = dxce + h*acs
+    xce = x0 + dxce
     se_force()
     velocity()
+    xlp = xl
 }
 
 : ---- Module 1 (kim_m1_calcium.mod) ----
@@ -505,6 +520,7 @@ PROCEDURE activation(tc (ms), strict (1)) {
     } else {
         a = pow(at, alt)
     }
+    ab = a
     if (ld) {
         vl = vm
         if (xl <= xopt && vl >= 0) {
@@ -528,6 +544,208 @@ PROCEDURE activation(tc (ms), strict (1)) {
 }
 
 : ---- Module 3 (kim_m3_force.mod) ----
+
+: ---- the fixed step across eq 20's switch and the CE's error control (KimAct's switch_in_step, divided;
+: KimForce's ce_step, check_step, split_step; KimForce's aa is acs here) ----
+
+PROCEDURE switch_in_step(mv (1)) {
+    : KimAct's switch_in_step (the length read into xl)
+    : fixed step: where eq 20 switches within the step, for KimForce (which then integrates the step in two
+    : parts): the played length and velocity are linear over the step (from the previous step's end values,
+    : exactly as NEURON interpolates them between breakpoints on the step grid); ssw (1, in (0, 1)) is the
+    : fraction of the step at which the condition Xm <= xopt, Vm >= 0 starts or stops holding, and asw the
+    : activation before it (undivided, or divided at the middle of the part before); A, as always, is the
+    : activation at the step's end.  ssw = 0: no switch within the step (asw = A).
+    LOCAL c0, c1, lo, hi, r
+    ssw = 0
+    asw = A
+    if (lengdiv && mv) {
+        c0 = xmp <= xopt && vmp >= 0
+        c1 = xl <= xopt && vm >= 0
+        if (c0 != c1) {
+            : the part [lo, hi] of the step where both linear conditions hold
+            lo = 0
+            hi = 1
+            UNITSOFF
+            if (xl != xmp) {
+                r = (xopt - xmp)/(xl - xmp)
+                if (xl > xmp) {
+                    if (r < hi) {
+                        hi = r
+                    }
+                } else if (r > lo) {
+                    lo = r
+                }
+            }
+            if (vm != vmp) {
+                r = -vmp/(vm - vmp)
+                if (vm < vmp) {
+                    if (r < hi) {
+                        hi = r
+                    }
+                } else if (r > lo) {
+                    lo = r
+                }
+            }
+            UNITSON
+            if (c1) {
+                : switched on at lo
+                ssw = lo
+                asw = ab
+            } else {
+                : switched off at hi
+                ssw = hi
+                asw = ab*divided(xmp + 0.5*hi*(xl - xmp), vmp + 0.5*hi*(vm - vmp))
+            }
+            if (movdep && asw < Afloor) {
+                asw = Afloor
+            }
+            if (ssw <= 0 || ssw >= 1) {
+                ssw = 0
+                asw = A
+            }
+        }
+    }
+}
+FUNCTION divided(x (mm), v (mm/s)) (1) {
+    : eq 20's factor 1/((1 + beta phi(Xm)) (1 + gamma Vm)) at Xm = x, Vm = v; 0 for a non-positive divisor
+    LOCAL ph, dv
+    ph = phi1*x + phi2
+    dv = (1 + beta*ph)*(1 + gamma*v)
+    if (dv > 0) {
+        divided = 1/dv
+    } else {
+        divided = 0
+    }
+}
+
+PROCEDURE ce_step(h (ms)) {
+    LOCAL fe, fa
+    : one fixed step of length h of the CE from xce at the length xl (F, vce, dvdF of that state already set):
+    : acs (mm/ms) = the CE's mean velocity over the step
+    : taut SE (or just taut and being taken up): F depends on xce; slack: it does not
+    if (xl - xce > 0 || (xl - xce == 0 && vce < 0)) {
+        dfdx = -kse*dvdF/(1000)
+    } else {
+        dfdx = 0
+    }
+    : one linearly implicit step: D = h f/(1 - h df/dxce)
+    acs = (vce/(1000))/(1 - h*dfdx)
+    if (xl - xce < 0 && xce + h*acs < xl) {
+        : slack taken up within the step: stop where the SE becomes taut (no overshoot into the
+        : stiff region by an explicit step)
+        acs = (xl - xce)/h
+    }
+    if (Fc > 0) {
+        fe = kse*(xl - xce - h*acs)
+        fa = (2 + c0/P0)*Fc
+        if (fe > Fc + asym*(fa - Fc)) {
+            : the step would end on the steep saturation: backward Euler there (no overshoot)
+            acs = ce_backward_euler(h, kse)
+            nasym = nasym + 1
+        } else if ((fe > Fc || Fse > Fc) && fabs((fe - Fse)/(1 (N))) > lincurv*(fa - fmax(fe, Fse))/(1 (N))) {
+            : on eq 11 the force moves by more than lincurv of its distance to the pole within the step:
+            : the linearised step is poor there (fast eccentric motion); backward Euler is not
+            acs = ce_backward_euler(h, kse)
+        } else if (fe < Fc && Fse < Fc && fabs((fe - Fse)/(1 (N))) > lincurv*(fmin(fe, Fse) + a0*Fc/P0)/(1 (N))) {
+            : likewise on eq 10, whose pole is at F = -a0 Fc/P0: at low activation the Hill hyperbola bends
+            : within a step and a linearised step overshoots into oscillation (a nearly silent unit moved)
+            acs = ce_backward_euler(h, kse)
+        } else if (Fse <= 0 || fe <= 0) {
+            : slack, or at the SE's slack/taut boundary, where the Hill hyperbola bends sharply (pole at
+            : F = -a0 Fc/P0): a linearised step (or stopping where the SE becomes taut) stalls at F = 0
+            : while the CE should take up the slack and load the SE; backward Euler does not stall
+            acs = ce_backward_euler(h, kse)
+        }
+    }
+}
+PROCEDURE check_step(h (ms), xla (mm)) {
+    : the local error of the step of length h just taken by ce_step (acs), estimated as half the change of the
+    : CE velocity over it times k h (N, first order); above subtol times the force's scale the step is redone
+    : as n = 1 + floor(err/(subtol scale)) (at most nsubmax) substeps of h/n along the length interpolated
+    : from xla (the length at the step's start) to xl (a fast transient: A jumping at eq 20's switch at low
+    : activation, where the CE-SE loop settles within a fraction of a step)
+    LOCAL v0, fs0, xs, xle, err, sc, n, i, nas, fe
+    v0 = vce
+    fs0 = Fse
+    xs = xce
+    fe = kse*(xl - xce - h*acs)
+    if (fe < 0) {
+        fe = 0
+    }
+    Fse = fe
+    velocity()
+    UNITSOFF
+    err = 0.5*kse*h*fabs(v0 - vce)/1000
+    sc = fmax(fmax(fs0, fe), Fc)
+    UNITSON
+    if (err > subtol*sc) {
+        n = 1 + floor(err/(subtol*sc))
+        if (n > nsubmax) {
+            n = nsubmax
+        }
+        nsub = nsub + 1
+        nas = nasym
+        xle = xl
+        i = 1
+        WHILE (i <= n) {
+            xl = xla + (xle - xla)*i/n
+            se_force()
+            velocity()
+            ce_step(h/n)
+            xce = xce + h/n*acs
+            i = i + 1
+        }
+        acs = (xce - xs)/h
+        if (nasym > nas) {
+            nasym = nas + 1
+        }
+        xce = xs
+        xl = xle
+        se_force()
+    } else {
+        Fse = fs0
+    }
+    velocity()
+}
+PROCEDURE split_step(hs (ms)) {
+    : fixed step across eq 20's switch at sw hs (KimAct's ssw): the CE advanced first with the activation before
+    : it (KimAct's asw) over sw hs to the length interpolated there, then with A over the rest; acs is the mean
+    : velocity over the whole step
+    LOCAL xs, xle, ale, h1, xl1, nas
+    nsplit = nsplit + 1
+    nas = nasym
+    xs = xce
+    xle = xl
+    ale = al
+    h1 = sw*hs
+    xl1 = xlp + (xle - xlp)*sw
+    al = asw
+    xl = xl1
+    se_force()
+    velocity()
+    ce_step(h1)
+    if (nsubmax > 1 && Fc > 0) {
+        check_step(h1, xlp)
+    }
+    xce = xce + h1*acs
+    al = ale
+    xl = xle
+    se_force()
+    velocity()
+    ce_step(hs - h1)
+    if (nsubmax > 1 && Fc > 0) {
+        check_step(hs - h1, xl1)
+    }
+    xce = xce + (hs - h1)*acs
+    acs = (xce - xs)/hs
+    xce = xs
+    if (nasym > nas) {
+        nasym = nas + 1
+    }
+    se_force()
+    velocity()
+}
 
 FUNCTION fmin(a (N), b (N)) (N) {
     if (a < b) {

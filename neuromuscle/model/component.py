@@ -66,12 +66,15 @@ class State:
 @dataclass(frozen=True)
 class Port:
     """A POINTER of the mechanism.  ``source`` is the default ``"slot.variable"`` it reads; ``neutral`` names the
-    component's own RANGE variable it points at when nothing else is wired (a modulation port left unused)."""
+    component's own RANGE variable it points at when nothing else is wired (a modulation port left unused).
+    ``optional``: read ``source`` when the unit has it, else ``neutral`` (information another component may or may
+    not give, e.g. KimAct's eq 20 switch within a fixed step; never counts as a modulation)."""
 
     name: str
     unit: str
     source: str | None = None
     neutral: str | None = None
+    optional: bool = False
 
 
 class Component:

@@ -113,7 +113,7 @@ class KimActivation(Component):
         Port("vm", "mm/s", "length.vm"),
         Port("tauA_gain", "1", None, "unity"),
     )
-    exposes = {"A": "1", "Ainf": "1", "tauA": "ms", "alpha_t": "1"}
+    exposes = {"A": "1", "Ainf": "1", "tauA": "ms", "alpha_t": "1", "asw": "1", "ssw": "1"}
     states = (State("atil", "1", 1e-5),)
 
     def __init__(self, movement_compensation: bool = False, **overrides: float) -> None:
@@ -167,9 +167,13 @@ class KimForce(Component):
         Port("act", "1", "act.A"),
         Port("xm", "mm", "length.xm"),
         Port("force_offset", "N", None, "zero"),
+        Port("asw", "1", "act.asw", "zero", optional=True),
+        Port("ssw", "1", "act.ssw", "zero", optional=True),
     )
-    exposes = {"F": "N", "Fse": "N", "Fc": "N", "vce": "mm/s", "nasym": "1", "P0": "N", "KSE": "1/mm"}
-    states = (State("xce", "mm", 1e-6),)
+    exposes = {"F": "N", "Fse": "N", "Fc": "N", "vce": "mm/s", "nasym": "1", "P0": "N", "KSE": "1/mm", "xce": "mm",
+               "x0": "mm", "nsub": "1",
+               "nsplit": "1"}
+    states = (State("dxce", "mm", 1e-6),)
 
     def input_warnings(self, trace: Any, params: Mapping[str, float] | None) -> list[str]:
         """A length where eq 12 leaves less than 0.1 % of P0 (the muscle makes almost no force there)."""

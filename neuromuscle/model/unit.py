@@ -150,6 +150,11 @@ class MuscleUnit:
             modulated = False
             for port in comp.reads:
                 key = f"{slot}.{port.name}"
+                if port.optional:
+                    src_slot, _, src_var = str(port.source).partition(".")
+                    has = src_slot in self.components and src_var in self.components[src_slot].recordables()
+                    setattr(comp.obj, f"_ref_{port.name}", self.ref(port.source) if has else comp.ref(port.neutral))
+                    continue
                 # a modulation port counts as driven when an extension targets it or its component names a source
                 modulated |= key in driven or (port.neutral is not None and port.source is not None)
                 source = driven.pop(key, port.source)

@@ -45,7 +45,8 @@ class _ForceHistory(Extension):
     reads = (
         Port("xm", "mm", "length.xm"),
         Port("vm", "mm/s", "length.vm"),
-        Port("xce", "mm", "force.xce"),
+        Port("dxce", "mm", "force.dxce"),
+        Port("x0", "mm", "force.x0"),
         Port("P0", "N", "force.P0"),
         Port("KSE", "1/mm", "force.KSE"),
     )
