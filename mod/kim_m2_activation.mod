@@ -249,7 +249,9 @@ PROCEDURE switch_in_step(mv (1)) {
             if (movdep && asw < Afloor) {
                 asw = Afloor
             }
-            if (ssw <= 0 || ssw >= 1) {
+            if (ssw <= 0 || ssw >= 1 || asw == A) {
+                : no switch within the step, or one that changes nothing (beta = gamma = 0: the neutral
+                : extension stays bit-identical to eq 20 off)
                 ssw = 0
                 asw = A
             }
@@ -257,11 +259,11 @@ PROCEDURE switch_in_step(mv (1)) {
     }
 }
 
-FUNCTION divided(x (mm), v (mm/s)) (1) {
-    : eq 20's factor 1/((1 + beta phi(Xm)) (1 + gamma Vm)) at Xm = x, Vm = v; 0 for a non-positive divisor
+FUNCTION divided(x (mm), w (mm/s)) (1) {
+    : eq 20's factor 1/((1 + beta phi(Xm)) (1 + gamma Vm)) at Xm = x, Vm = w; 0 for a non-positive divisor
     LOCAL ph, dv
     ph = phi1c*x + phi2c
-    dv = (1 + beta*ph)*(1 + gamma*v)
+    dv = (1 + beta*ph)*(1 + gamma*w)
     if (dv > 0) {
         divided = 1/dv
     } else {

@@ -236,6 +236,7 @@ PROCEDURE check_step(h (ms), xla (mm)) {
     : from xla (the length at the step's start) to xl (a fast transient: A jumping at eq 20's switch at low
     : activation, where the CE-SE loop settles within a fraction of a step)
     LOCAL v0, fs0, xs, xle, err, sc, n, i, nas, fe
+    UNITSOFF
     v0 = vce
     fs0 = Fse
     xs = xce
@@ -245,10 +246,8 @@ PROCEDURE check_step(h (ms), xla (mm)) {
     }
     Fse = fe
     velocity()
-    UNITSOFF
     err = 0.5*kse*h*fabs(v0 - vce)/1000
     sc = fmax(fmax(fs0, fe), Fc)
-    UNITSON
     if (err > subtol*sc) {
         n = 1 + floor(err/(subtol*sc))
         if (n > nsubmax) {
@@ -277,6 +276,7 @@ PROCEDURE check_step(h (ms), xla (mm)) {
         Fse = fs0
     }
     velocity()
+    UNITSON
 }
 
 PROCEDURE split_step() {
@@ -284,6 +284,7 @@ PROCEDURE split_step() {
     : it (KimAct's asw) over sw dt to the length interpolated there, then with A over the rest; aa is the mean
     : velocity over the whole step
     LOCAL xs, xle, ale, h1, xl1, nas
+    UNITSOFF
     nsplit = nsplit + 1
     nas = nasym
     xs = xce
@@ -316,6 +317,7 @@ PROCEDURE split_step() {
     }
     se_force()
     velocity()
+    UNITSON
 }
 
 FUNCTION fmin(a (N), b (N)) (N) {

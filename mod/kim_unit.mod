@@ -600,18 +600,20 @@ PROCEDURE switch_in_step(mv (1)) {
             if (movdep && asw < Afloor) {
                 asw = Afloor
             }
-            if (ssw <= 0 || ssw >= 1) {
+            if (ssw <= 0 || ssw >= 1 || asw == A) {
+                : no switch within the step, or one that changes nothing (beta = gamma = 0: the neutral
+                : extension stays bit-identical to eq 20 off)
                 ssw = 0
                 asw = A
             }
         }
     }
 }
-FUNCTION divided(x (mm), v (mm/s)) (1) {
-    : eq 20's factor 1/((1 + beta phi(Xm)) (1 + gamma Vm)) at Xm = x, Vm = v; 0 for a non-positive divisor
+FUNCTION divided(x (mm), w (mm/s)) (1) {
+    : eq 20's factor 1/((1 + beta phi(Xm)) (1 + gamma Vm)) at Xm = x, Vm = w; 0 for a non-positive divisor
     LOCAL ph, dv
     ph = phi1*x + phi2
-    dv = (1 + beta*ph)*(1 + gamma*v)
+    dv = (1 + beta*ph)*(1 + gamma*w)
     if (dv > 0) {
         divided = 1/dv
     } else {
@@ -666,6 +668,7 @@ PROCEDURE check_step(h (ms), xla (mm)) {
     : from xla (the length at the step's start) to xl (a fast transient: A jumping at eq 20's switch at low
     : activation, where the CE-SE loop settles within a fraction of a step)
     LOCAL v0, fs0, xs, xle, err, sc, n, i, nas, fe
+    UNITSOFF
     v0 = vce
     fs0 = Fse
     xs = xce
@@ -675,10 +678,8 @@ PROCEDURE check_step(h (ms), xla (mm)) {
     }
     Fse = fe
     velocity()
-    UNITSOFF
     err = 0.5*kse*h*fabs(v0 - vce)/1000
     sc = fmax(fmax(fs0, fe), Fc)
-    UNITSON
     if (err > subtol*sc) {
         n = 1 + floor(err/(subtol*sc))
         if (n > nsubmax) {
@@ -707,12 +708,14 @@ PROCEDURE check_step(h (ms), xla (mm)) {
         Fse = fs0
     }
     velocity()
+    UNITSON
 }
 PROCEDURE split_step(hs (ms)) {
     : fixed step across eq 20's switch at sw hs (KimAct's ssw): the CE advanced first with the activation before
     : it (KimAct's asw) over sw hs to the length interpolated there, then with A over the rest; acs is the mean
     : velocity over the whole step
     LOCAL xs, xle, ale, h1, xl1, nas
+    UNITSOFF
     nsplit = nsplit + 1
     nas = nasym
     xs = xce
@@ -745,6 +748,7 @@ PROCEDURE split_step(hs (ms)) {
     }
     se_force()
     velocity()
+    UNITSON
 }
 
 FUNCTION fmin(a (N), b (N)) (N) {
