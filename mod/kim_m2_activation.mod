@@ -28,6 +28,10 @@ Coupling (documented interface, see neuromuscle/model/kim.py):
                    activation A in [0, 1] can take this place in front of Module 3.
 Numerics: linear in Atil, so METHOD cnexp is exact for frozen x in fixed step; CVODE uses the same block.
 The movement clock switches at the onset in CVODE (an event there) and at the fixed step's midpoint (see states).
+Fixed step: eq 20's switch within the step (Xm reaching xopt, Vm changing sign) is located on the played length and
+velocity (linear between the previous step's end values and this one's) and reported to KimForce as RANGE ssw
+(the fraction of the step; 0 when there is none or it changes nothing) and asw (the activation before it), so
+that Module 3 integrates the two parts with their own activation; A stays the activation at the step's end.
 ENDCOMMENT
 
 NEURON {

@@ -42,6 +42,20 @@ length err by 1e-5 mm, i.e. P0 KSE 1e-5 ~ 1e-4 N of force whatever the force, up
 activated unit (sweep draws 7 and 23: a ramp's onset; 0.009 % with dxce).  |dxce| is of the order of the SE's
 extension plus the length change, so rtol now acts on the force's own scale.
 
+Two more fixed-step rules (both O(1) per step; isometric and shortening trials of the published sets never meet
+them, so their numbers are unchanged):
+- error control: after the step, its local error is estimated as k h |v(start) - v(end)|/2 (N, the first-order
+  term) and, above subtol (1e-3) times the force's scale max(F, Fc), the step is redone as n = 1 + floor(err/
+  (subtol scale)) substeps (at most nsubmax = 16; nsubmax = 1 turns it off) along the length interpolated from
+  the previous step's (RANGE nsub counts those steps).  A fast transient needs it: at low activation the CE-SE
+  loop settles within a fraction of a step when A jumps (sweep draw 13: 2.8 -> 0.25 % of peak).
+- eq 20's switch within the step: KimAct reports where in the step (ssw, a fraction) the lengthening-below-the-
+  optimum condition starts or stops holding and the activation before it (asw); the step is then taken in two
+  parts, asw over ssw dt and A over the rest (RANGE nsplit counts them).  Before, A of the step's end held over
+  the whole step (sweep draw 25, Xm crossing the optimum in a 200 mm/s ramp: 1.6 -> 0.3 % of peak).  POINTER asw,
+  ssw are optional: unset (nrn_pointing) or pointing at 0, the step is not split (an excitation model without
+  eq 20).
+
 Coupling: POINTER act -> activation A (1) of an excitation mechanism (KimAct, or any model exposing A);
           POINTER xm   -> muscle length (mm) of a MuscleLength point process;
           POINTER force_offset -> modulation port (N): a history-dependent element in parallel with the CE-SE

@@ -13,6 +13,9 @@ Coupling: POINTER xm, vm -> muscle length (mm) and velocity (mm/s) of a MuscleLe
 in a pool).  No modulation ports: model extensions need the three mechanisms (the Python wiring refuses them).
 Spikes: NET_RECEIVE with weight w, as KimCa.
 
+The fixed step's split at eq 20's switch and the CE's error-controlled substeps (KimAct's switch_in_step,
+KimForce's ce_step, check_step, split_step) are copied likewise; the CE state is dxce = XCE - x0 as in KimForce.
+
 Order within a step, as NEURON runs the three mechanisms (KimCa, KimAct, KimForce are registered in that order):
 Module 1 with the previous step's Atil, Module 2 with the new [CaSPT], Module 3 with the new A.
 
