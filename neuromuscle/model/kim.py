@@ -171,8 +171,7 @@ class KimForce(Component):
         Port("ssw", "1", "act.ssw", "zero", optional=True),
     )
     exposes = {"F": "N", "Fse": "N", "Fc": "N", "vce": "mm/s", "nasym": "1", "P0": "N", "KSE": "1/mm", "xce": "mm",
-               "x0": "mm", "nsub": "1",
-               "nsplit": "1"}
+               "x0": "mm", "nsub": "1", "nsplit": "1"}
     states = (State("dxce", "mm", 1e-6),)
 
     def input_warnings(self, trace: Any, params: Mapping[str, float] | None) -> list[str]:
