@@ -107,7 +107,7 @@ PARAMETER {
     lincurv = 0.02 (1)
     fcmin = 1e-4 (1)
     subtol = 1e-3 (1)
-    nsubmax = 16 (1)
+    nsubmax = 64 (1)
     F0 = 0 (N)
     rest = 1 (1)
     substeps = 1 (1)
