@@ -30,7 +30,7 @@ def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTra
              *, excitation: Model = None, contraction: Model = None,
              extensions: Mapping[str, Mapping[str, float]] | None = None, record: Sequence[str] | None = None,
              record_dt_ms: float = 0.1, method: str = "fixed", dt_ms: float = 0.025, atol: float = 1e-3,
-             rtol: float = 1e-6, simulator: Simulator | None = None, initial_state: str = "rest",
+             rtol: float = 1e-7, simulator: Simulator | None = None, initial_state: str = "rest",
              provenance_extra: dict | None = None) -> SimulationResult:
     """Simulate one unit from 0 to duration_ms (ms).
 

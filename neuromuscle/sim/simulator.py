@@ -72,6 +72,10 @@ class Simulator:
     MPI the spike-exchange interval, capped by NEURON at the smallest NetCon delay); ``v_init_mV`` the membrane
     potential every section starts from (mV; None leaves each segment's v as it is, enough for a muscle alone).
 
+    rtol is 1e-7, not 1e-6: Module 3's state (the CE length change dxce, mm) grows with the length excursion, and
+    rtol |dxce| at 1e-6 let a weak unit's force err by up to 1.3 % of its peak where the series element takes up
+    slack under random length (sweep draws 476 and 962); 1e-7 costs 1.2-1.7x the CVODE time under movement.
+
     CVODE cannot hang: each run has a wall-time budget ``max_wall_s`` (s) and a step budget ``max_steps``, checked
     after every CVODE step; a run that spends either stops with a NumericalError naming ``label`` and the time
     reached.  The default wall budget (-1) is ``DEFAULT_BUDGET_S`` plus ``DEFAULT_BUDGET_S_PER_S`` per simulated
@@ -83,7 +87,7 @@ class Simulator:
     method: str = "fixed"
     dt_ms: float = 0.025
     atol: float = 1e-3
-    rtol: float = 1e-6
+    rtol: float = 1e-7
     nthread: int = 1
     maxstep_ms: float = 10.0
     v_init_mV: float | None = None
