@@ -1,9 +1,10 @@
-"""Causes of over-tolerance sweep comparisons: the timing-tolerant difference, and ``explain`` naming a switch
-transient, the fixed step's first-order error, and a difference nothing accounts for."""
+"""Causes of over-tolerance sweep comparisons: the timing-tolerant difference, and ``explain`` naming CVODE's own
+error, a switch transient, the fixed step's first-order error, and a difference nothing accounts for."""
 
 import numpy as np
 import pytest
 
+from neuromuscle import Simulator, kim_excitation, simulate
 from neuromuscle.bench.sweep import RECORD_DT_MS, SweepSettings, run_protocol
 from neuromuscle.bench.sweep_draws import draw
 from neuromuscle.bench.sweep_explain import classify, explain, timing_tolerant_pct
@@ -72,3 +73,21 @@ def test_evidence_nothing_accounts_for_is_unexplained_and_the_order_is_kept():
     assert classify({**base, "timing_pct": 0.5, "fixed_half_pct": 2.0, "fixed_quarter_pct": 0.9}, 5.0) == "first_order"
     # within 1 % at dt/4 but not shrinking monotonically: not first order
     assert classify({**base, "fixed_half_pct": 6.0, "fixed_quarter_pct": 0.9}, 5.0) == "unexplained"
+    # a tight CVODE agreeing with the fixed step and not with the default CVODE: CVODE's own error, named first
+    assert classify({**base, "tight_fixed_pct": 0.3, "tight_cvode_pct": 4.0, "fixed_half_pct": 2.0,
+                     "fixed_quarter_pct": 0.9}, 5.0) == "cvode"
+    assert classify({**base, "tight_fixed_pct": 1.5, "tight_cvode_pct": 4.0}, 5.0) == "unexplained"
+    assert classify({**base, "tight_fixed_pct": 0.3, "tight_cvode_pct": 0.8}, 5.0) == "unexplained"
+
+
+def test_cvode_at_the_old_rtol_is_named_as_the_integrator_in_error(ct09):
+    # draw 476 (peak 0.0018 N, random length): at rtol 1e-6 CVODE was 1.03 % of peak off where the SE takes up
+    # slack (rtol |dxce|, |dxce| ~ 4 mm); the fixed step is within 0.3 % of a tight CVODE
+    d = draw(ct09, 0, 476)
+    p = next(p for p in sweep_protocols(d.params["g1"], d.length_seed, d.movement_compensation, True)
+             if p.name == "random_length")
+    f = {m: simulate(d.params, p.spikes_ms, p.length, p.duration_ms, simulator=sim, record=("force.F",),
+                     record_dt_ms=RECORD_DT_MS, excitation=kim_excitation()).force_N
+         for m, sim in (("fixed", Simulator()), ("cvode", Simulator(method="cvode", rtol=1e-6)))}
+    e = explain(d.params, p, f["fixed"], f["cvode"], 0.025, RECORD_DT_MS)
+    assert e["cause"] == "cvode" and e["tight_fixed_pct"] < 0.5 < 1.0 < e["tight_cvode_pct"], e
