@@ -47,7 +47,9 @@ them, so their numbers are unchanged):
 - error control: after the step, its local error is estimated as k h |v(start) - v(end)|/2 (N, the first-order
   term) and, above subtol (1e-3) times the force's scale max(F, Fc), the step is redone as n = 1 + floor(err/
   (subtol scale)) substeps (at most nsubmax = 64; nsubmax = 1 turns it off) along the length interpolated from
-  the previous step's (RANGE nsub counts those steps).  A fast transient needs it: at low activation the CE-SE
+  the previous step's, and with the activation interpolated likewise from the previous step's A (held at the
+  step's end's A over every substep, a regenerative twitch's fall, where F follows eq 11's asymptote as A
+  collapses, was 1.1 % of peak off: sweep draw 524; 0.7 % interpolated) (RANGE nsub counts those steps).  A fast transient needs it: at low activation the CE-SE
   loop settles within a fraction of a step when A jumps (sweep draw 13: 2.8 -> 0.25 % of peak), and a weak
   unit's SE taking up slack loads in ~0.01 ms (draw 476, peak 0.0018 N: 1.23 % with at most 16 substeps, whose
   backward-Euler error on that transient remained; 0.28 % with 64).  The cap bounds the cost of the rare steps
@@ -126,6 +128,7 @@ ASSIGNED {
     xce (mm)
     x0 (mm)
     xlp (mm)
+    alp (1)
     nsub (1)
     nsplit (1)
     sw (1)
@@ -154,6 +157,7 @@ INITIAL {
     nsub = 0
     nsplit = 0
     xlp = xl
+    alp = al
     se_force()
 }
 
@@ -167,6 +171,7 @@ BREAKPOINT {
         se_force()
         velocity()
         xlp = xl
+        alp = al
     }
 }
 
@@ -198,7 +203,7 @@ DERIVATIVE states {
         } else {
             ce_step(dt)
             if (nsubmax > 1 && Fc > 0) {
-                check_step(dt, xlp)
+                check_step(dt, xlp, alp)
             }
         }
     }
@@ -246,13 +251,13 @@ PROCEDURE ce_step(h (ms)) {
     }
 }
 
-PROCEDURE check_step(h (ms), xla (mm)) {
+PROCEDURE check_step(h (ms), xla (mm), ala (1)) {
     : the local error of the step of length h just taken by ce_step (aa), estimated as half the change of the
     : CE velocity over it times k h (N, first order); above subtol times the force's scale the step is redone
     : as n = 1 + floor(err/(subtol scale)) (at most nsubmax) substeps of h/n along the length interpolated
     : from xla (the length at the step's start) to xl (a fast transient: A jumping at eq 20's switch at low
     : activation, where the CE-SE loop settles within a fraction of a step)
-    LOCAL v0, fs0, xs, xle, err, sc, n, i, nas, fe
+    LOCAL v0, fs0, xs, xle, ale, err, sc, n, i, nas, fe
     UNITSOFF
     v0 = vce
     fs0 = Fse
@@ -273,9 +278,11 @@ PROCEDURE check_step(h (ms), xla (mm)) {
         nsub = nsub + 1
         nas = nasym
         xle = xl
+        ale = al
         i = 1
         WHILE (i <= n) {
             xl = xla + (xle - xla)*i/n
+            al = ala + (ale - ala)*i/n
             se_force()
             velocity()
             ce_step(h/n)
@@ -288,6 +295,7 @@ PROCEDURE check_step(h (ms), xla (mm)) {
         }
         xce = xs
         xl = xle
+        al = ale
         se_force()
     } else {
         Fse = fs0
@@ -315,7 +323,7 @@ PROCEDURE split_step() {
     velocity()
     ce_step(h1)
     if (nsubmax > 1 && Fc > 0) {
-        check_step(h1, xlp)
+        check_step(h1, xlp, al)
     }
     xce = xce + h1*aa
     al = ale
@@ -324,7 +332,7 @@ PROCEDURE split_step() {
     velocity()
     ce_step(dt - h1)
     if (nsubmax > 1 && Fc > 0) {
-        check_step(dt - h1, xl1)
+        check_step(dt - h1, xl1, al)
     }
     xce = xce + (dt - h1)*aa
     aa = (xce - xs)/dt

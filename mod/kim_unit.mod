@@ -117,6 +117,7 @@ ASSIGNED {
     xce (mm)
     x0 (mm)
     xlp (mm)
+    alp (1)
     xmp (mm)
     vmp (mm/s)
     ab (1)
@@ -241,6 +242,7 @@ INITIAL {
     nsub = 0
     nsplit = 0
     xlp = xl
+    alp = al
     se_force()
 }
 
@@ -329,7 +331,7 @@ PROCEDURE step_all(h (ms)) {
     } else {
         ce_step(h)
         if (nsubmax > 1 && Fc > 0) {
-            check_step(h, xlp)
+            check_step(h, xlp, alp)
         }
     }
     dxce = dxce + h*acs
@@ -337,6 +339,7 @@ PROCEDURE step_all(h (ms)) {
     se_force()
     velocity()
     xlp = xl
+    alp = al
 }
 
 : ---- Module 1 (kim_m1_calcium.mod) ----
@@ -664,13 +667,13 @@ PROCEDURE ce_step(h (ms)) {
         }
     }
 }
-PROCEDURE check_step(h (ms), xla (mm)) {
+PROCEDURE check_step(h (ms), xla (mm), ala (1)) {
     : the local error of the step of length h just taken by ce_step (acs), estimated as half the change of the
     : CE velocity over it times k h (N, first order); above subtol times the force's scale the step is redone
     : as n = 1 + floor(err/(subtol scale)) (at most nsubmax) substeps of h/n along the length interpolated
     : from xla (the length at the step's start) to xl (a fast transient: A jumping at eq 20's switch at low
     : activation, where the CE-SE loop settles within a fraction of a step)
-    LOCAL v0, fs0, xs, xle, err, sc, n, i, nas, fe
+    LOCAL v0, fs0, xs, xle, ale, err, sc, n, i, nas, fe
     UNITSOFF
     v0 = vce
     fs0 = Fse
@@ -691,9 +694,11 @@ PROCEDURE check_step(h (ms), xla (mm)) {
         nsub = nsub + 1
         nas = nasym
         xle = xl
+        ale = al
         i = 1
         WHILE (i <= n) {
             xl = xla + (xle - xla)*i/n
+            al = ala + (ale - ala)*i/n
             se_force()
             velocity()
             ce_step(h/n)
@@ -706,6 +711,7 @@ PROCEDURE check_step(h (ms), xla (mm)) {
         }
         xce = xs
         xl = xle
+        al = ale
         se_force()
     } else {
         Fse = fs0
@@ -732,7 +738,7 @@ PROCEDURE split_step(hs (ms)) {
     velocity()
     ce_step(h1)
     if (nsubmax > 1 && Fc > 0) {
-        check_step(h1, xlp)
+        check_step(h1, xlp, al)
     }
     xce = xce + h1*acs
     al = ale
@@ -741,7 +747,7 @@ PROCEDURE split_step(hs (ms)) {
     velocity()
     ce_step(hs - h1)
     if (nsubmax > 1 && Fc > 0) {
-        check_step(hs - h1, xl1)
+        check_step(hs - h1, xl1, al)
     }
     xce = xce + (hs - h1)*acs
     acs = (xce - xs)/hs
