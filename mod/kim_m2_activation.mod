@@ -161,7 +161,7 @@ PROCEDURE rates() {
 PROCEDURE activation(tc (ms), strict (1)) {
     : tc: the time (ms) at which the movement clock's switch is read: moving when tc >= onset, or tc > onset
     : with strict = 1 (CVODE: the onset itself belongs to the step that ends there)
-    LOCAL ph, at, dv, mv
+    LOCAL at, dv, mv
     if (strict) {
         mv = tc > onset
     } else {
@@ -186,8 +186,7 @@ PROCEDURE activation(tc (ms), strict (1)) {
     if (lengdiv && mv) {
         : eq 20: lengthening at or below the optimum
         if (xm <= xoptc && vm >= 0) {
-            ph = phi1c*xm + phi2c
-            dv = (1 + beta*ph)*(1 + gamma*vm)
+            dv = divisor(xm, vm)
             if (dv > 0) {
                 A = A/dv
             } else {
@@ -263,11 +262,15 @@ PROCEDURE switch_in_step(mv (1)) {
     }
 }
 
+FUNCTION divisor(x (mm), w (mm/s)) (1) {
+    : eq 20's divisor (1 + beta phi(Xm)) (1 + gamma Vm) at Xm = x, Vm = w
+    divisor = (1 + beta*(phi1c*x + phi2c))*(1 + gamma*w)
+}
+
 FUNCTION divided(x (mm), w (mm/s)) (1) {
-    : eq 20's factor 1/((1 + beta phi(Xm)) (1 + gamma Vm)) at Xm = x, Vm = w; 0 for a non-positive divisor
-    LOCAL ph, dv
-    ph = phi1c*x + phi2c
-    dv = (1 + beta*ph)*(1 + gamma*w)
+    : eq 20's factor 1/divisor(x, w); 0 for a non-positive divisor
+    LOCAL dv
+    dv = divisor(x, w)
     if (dv > 0) {
         divided = 1/dv
     } else {

@@ -503,7 +503,7 @@ PROCEDURE rates() {
 
 PROCEDURE activation(tc (ms), strict (1)) {
     : KimAct's activation(), A and alpha_t computed in LOCALs and stored once (the same arithmetic)
-    LOCAL ph, at, dv, mv, vl, a, alt, md, ld
+    LOCAL at, dv, mv, vl, a, alt, md, ld
     UNITSOFF
     if (strict) {
         mv = tc > onset
@@ -530,8 +530,7 @@ PROCEDURE activation(tc (ms), strict (1)) {
     if (ld) {
         vl = vm
         if (xl <= xopt && vl >= 0) {
-            ph = phi1*xl + phi2
-            dv = (1 + beta*ph)*(1 + gamma*vl)
+            dv = divisor(xl, vl)
             if (dv > 0) {
                 a = a/dv
             } else {
@@ -615,11 +614,16 @@ PROCEDURE switch_in_step(mv (1)) {
         }
     }
 }
+
+FUNCTION divisor(x (mm), w (mm/s)) (1) {
+    : eq 20's divisor (1 + beta phi(Xm)) (1 + gamma Vm) at Xm = x, Vm = w
+    divisor = (1 + beta*(phi1*x + phi2))*(1 + gamma*w)
+}
+
 FUNCTION divided(x (mm), w (mm/s)) (1) {
-    : eq 20's factor 1/((1 + beta phi(Xm)) (1 + gamma Vm)) at Xm = x, Vm = w; 0 for a non-positive divisor
-    LOCAL ph, dv
-    ph = phi1*x + phi2
-    dv = (1 + beta*ph)*(1 + gamma*w)
+    : eq 20's factor 1/divisor(x, w); 0 for a non-positive divisor
+    LOCAL dv
+    dv = divisor(x, w)
     if (dv > 0) {
         divided = 1/dv
     } else {
