@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from neuromuscle import load_parameters, mechanism_hash, simulate
+from neuromuscle import Simulator, load_parameters, mechanism_hash, simulate
 from neuromuscle.analysis.metrics import Twitch, plateau, twitch_metrics
 from neuromuscle.protocols import constant_rate
 from neuromuscle.reference import reference_simulate
@@ -145,7 +145,7 @@ def report(quick: bool) -> str:
     dev_spec, where_spec = largest_deviation(rows, "spec")
     dts = dt_convergence(DT_SERIES_MS[1:3] if quick else DT_SERIES_MS)
     lines = [f"Mechanism hash {mechanism_hash()[:16]}; fixed step dt = {DT_MS} ms; CVODE atol 1e-3 (in each "
-             "state's atolscale), rtol 1e-6; twitch cells: peak / time to peak / half-relaxation after the peak.", ""]
+             f"state's atolscale), rtol {Simulator.rtol:g}; twitch cells: peak / time to peak / half-relaxation after the peak.", ""]
     lines += table(["condition (CT09 unless named)", "SciPy Radau", "NEURON fixed", "NEURON CVODE", "spec"], body)
     lines += ["", f"Largest deviation from SciPy: {100 * dev_scipy:.3f} % ({where_scipy}); "
                   f"from the spec's rounded values: {100 * dev_spec:.3f} % ({where_spec}).", ""]
