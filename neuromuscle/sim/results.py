@@ -23,6 +23,8 @@ from ..parameters import ParameterSet, parameters_from_json
 from ..reports.outdir import atomic_path, refuse_existing_file
 
 SCHEMA = "neuromuscle.simulation/2"
+#: Module 1's calcium states (M).
+CA_STATES = ("CaSR", "CaSRCS", "CaSP", "CaSPB", "CaSPT")
 
 
 @dataclass
@@ -50,15 +52,23 @@ class SimulationResult:
         """The contraction output (N for Module 3; N m for Hatze's MTC, see ``output``)."""
         return self[self.output]
 
+    def variable(self, name: str, slot: str = "act") -> np.ndarray:
+        """The trace of variable ``name`` in ``slot``, else in whichever slot records it (the fused KimUnit keeps
+        Modules 1-3 in one slot, "muscle")."""
+        if f"{slot}.{name}" in self.traces:
+            return self.traces[f"{slot}.{name}"]
+        found = [k for k in self.traces if k.split(".", 1)[-1] == name]
+        return self[found[0] if found else f"{slot}.{name}"]
+
     @property
     def A(self) -> np.ndarray:
         """Activation A (1) of the excitation model."""
-        return self["act.A"]
+        return self.variable("A")
 
     @property
     def atil(self) -> np.ndarray:
         """Module 2's Atil (1); only Kim's excitation has it."""
-        return self["act.atil"]
+        return self.variable("atil")
 
     @property
     def length_mm(self) -> np.ndarray:
@@ -68,7 +78,10 @@ class SimulationResult:
     @property
     def ca_M(self) -> dict[str, np.ndarray]:
         """Module 1's recorded calcium states (M) by state name."""
-        return {k[3:]: v for k, v in self.traces.items() if k.startswith("ca.")}
+        ca = {k[3:]: v for k, v in self.traces.items() if k.startswith("ca.")}
+        if not ca:  # the fused KimUnit: Module 1's states in its own slot
+            ca = {k.split(".", 1)[1]: v for k, v in self.traces.items() if k.split(".", 1)[-1] in CA_STATES}
+        return ca
 
     def save(self, path: str | Path, overwrite: bool = False) -> Path:
         """Write to HDF5 with provenance; refuses to replace an existing file unless overwrite."""

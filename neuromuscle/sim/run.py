@@ -14,15 +14,23 @@ from ..protocols.lengths import LengthTrace, as_length_trace
 from ..validate import check_spike_times
 from .provenance import provenance
 from .recordings import Recorder, on_time_grid
-from .results import SimulationResult
+from .results import CA_STATES, SimulationResult
 from .simulator import Simulator
 
 
 def default_recordings(unit: MuscleUnit) -> list[str]:
-    """The output, A, the length, and whatever of Atil and Module 1's Ca states the unit has."""
-    names = [unit.output, "act.A", "length.xm"]
+    """The output, A, the length, and whatever of Atil and Module 1's Ca states the unit has (in the slots "act"
+    and "ca", or in the one slot of a fused unit such as KimUnit's "muscle")."""
     known = unit.recordables()
-    names += [n for n in ("act.atil", "ca.CaSR", "ca.CaSRCS", "ca.CaSP", "ca.CaSPB", "ca.CaSPT") if n in known]
+
+    def find(slot: str, var: str) -> list[str]:
+        if f"{slot}.{var}" in known:
+            return [f"{slot}.{var}"]
+        return [n for n in known if n.split(".", 1)[-1] == var and not n.startswith("length.")][:1]
+
+    names = [unit.output, *find("act", "A"), "length.xm", *find("act", "atil")]
+    for var in CA_STATES:
+        names += find("ca", var)
     return names
 
 

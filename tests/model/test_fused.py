@@ -80,3 +80,15 @@ def test_extensions_and_a_second_contraction_are_refused(ct09):
         MuscleUnit(ct09, excitation=kim_fused(), extensions={"fatigue": {}})
     with pytest.raises(InputError, match="substeps"):
         kim_fused(substeps=0)
+
+
+def test_simulate_records_the_fused_unit_by_default_like_the_three_mechanisms(ct09):
+    # simulate()'s default recordings asked for "act.A" and failed on the fused unit (slot "muscle"); now they
+    # find A, Atil and Module 1's states in whichever slot has them, and the result's properties do too
+    fused = simulate(ct09, [10.0], -8.0, 100.0, excitation=kim_fused())
+    three = simulate(ct09, [10.0], -8.0, 100.0)
+    assert "muscle.A" in fused.traces and "act.A" in three.traces
+    for name in ("force_N", "A", "atil"):
+        np.testing.assert_array_equal(getattr(fused, name), getattr(three, name), err_msg=name)
+    assert sorted(fused.ca_M) == sorted(three.ca_M) == ["CaSP", "CaSPB", "CaSPT", "CaSR", "CaSRCS"]
+    np.testing.assert_array_equal(fused.ca_M["CaSPT"], three.ca_M["CaSPT"])
