@@ -37,6 +37,21 @@ def test_random_length_with_movement_compensation_against_scipy(ct09):
         assert np.max(np.abs(sim.force_N - ref.force_N)) < 0.005 * ref.force_N.max(), method
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("seed, mc", [(1, False), (2, False), (2, True), (3, False), (3, True)])
+def test_random_length_against_scipy_every_seed(ct09, seed, mc):
+    """The other five random-length cases (seeds 1-3, eqs 19-20 on and off) against SciPy, as above (~2 min each,
+    so outside the default suite: ``python -m pytest -m slow``)."""
+    spikes, trace = constant_rate(20, 700.0, start_ms=200.0), random_length(900.0, seed=seed)
+    ref = reference_simulate(ct09, spikes, trace, 900.0, record_dt_ms=0.5, movement_compensation=mc, rtol=1e-7)
+    for method in ("fixed", "cvode"):
+        sim = simulate(ct09, spikes, trace, 900.0, method=method, record_dt_ms=0.5,
+                       excitation=kim_excitation(movement_compensation=mc))
+        err = np.max(np.abs(sim.force_N - ref.force_N)) / ref.force_N.max()
+        print(f"seed {seed} mc {mc} {method}: {100 * err:.4f} % of peak")
+        assert err < 0.005, method
+
+
 @pytest.mark.parametrize("velocity", [50.0, 200.0])
 def test_lengthening_ramps_fixed_step_within_half_percent_of_cvode(ct09, velocity):
     ramp = isokinetic_ramp(-12.0, -2.0, velocity, 600.0, 1400.0)
