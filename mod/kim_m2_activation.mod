@@ -93,6 +93,7 @@ ASSIGNED {
     asw (1)
     ssw (1)
     xmp (mm)
+    mvp (1)
     vmp (mm/s)
 }
 
@@ -119,6 +120,7 @@ INITIAL {
     vmp = vm
     ssw = 0
     asw = A
+    mvp = t >= onset
 }
 
 BREAKPOINT {
@@ -126,6 +128,7 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
+    LOCAL mvn
     rates()
     atil' = (Ainf - atil)*kA
     if (cvode_on()) {
@@ -138,7 +141,14 @@ DERIVATIVE states {
         : at the step's midpoint, so the step that ends at the onset still runs without eqs 19-20 (as the
         : continuous model and CVODE do) instead of one step early
         activation(t - 0.5*dt, 0)
-        switch_in_step(t - 0.5*dt >= onset)
+        mvn = t - 0.5*dt >= onset
+        switch_in_step(mvn)
+        if (mvn && !mvp && ssw == 0 && (movdep || lengdiv)) {
+            : the movement onset in this step: A jumped (eqs 19-20 switch on); ssw = -1 tells KimForce to hold
+            : A of the step's end over its CE substeps instead of interpolating from the previous step's A
+            ssw = -1
+        }
+        mvp = mvn
         xmp = xm
         vmp = vm
     }
@@ -207,7 +217,8 @@ PROCEDURE switch_in_step(mv (1)) {
     : exactly as NEURON interpolates them between breakpoints on the step grid); ssw (1, in (0, 1)) is the
     : fraction of the step at which the condition Xm <= xopt, Vm >= 0 starts or stops holding, and asw the
     : activation before it (undivided, or divided at the middle of the part before); A, as always, is the
-    : activation at the step's end.  ssw = 0: no switch within the step (asw = A).
+    : activation at the step's end.  ssw = 0: no switch within the step (asw = A); the caller sets ssw = -1 for
+    : the step of the movement onset (A jumped).
     LOCAL c0, c1, lo, hi, r
     ssw = 0
     asw = A

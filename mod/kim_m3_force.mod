@@ -49,7 +49,8 @@ them, so their numbers are unchanged):
   (subtol scale)) substeps (at most nsubmax = 64; nsubmax = 1 turns it off) along the length interpolated from
   the previous step's, and with the activation interpolated likewise from the previous step's A (held at the
   step's end's A over every substep, a regenerative twitch's fall, where F follows eq 11's asymptote as A
-  collapses, was 1.1 % of peak off: sweep draw 524; 0.7 % interpolated) (RANGE nsub counts those steps).  A fast transient needs it: at low activation the CE-SE
+  collapses, was 1.1 % of peak off: sweep draw 524; 0.6 % interpolated), except where KimAct reports ssw = -1
+  (the movement onset's step, where A jumps: interpolating there was 2.6 % off) (RANGE nsub counts them).  A fast transient needs it: at low activation the CE-SE
   loop settles within a fraction of a step when A jumps (sweep draw 13: 2.8 -> 0.25 % of peak), and a weak
   unit's SE taking up slack loads in ~0.01 ms (draw 476, peak 0.0018 N: 1.23 % with at most 16 substeps, whose
   backward-Euler error on that transient remained; 0.28 % with 64).  The cap bounds the cost of the rare steps
@@ -203,7 +204,12 @@ DERIVATIVE states {
         } else {
             ce_step(dt)
             if (nsubmax > 1 && Fc > 0) {
-                check_step(dt, xlp, alp)
+                if (sw < 0) {
+                    : A jumped at the step's start (KimAct: the movement onset): hold it over the substeps
+                    check_step(dt, xlp, al)
+                } else {
+                    check_step(dt, xlp, alp)
+                }
             }
         }
     }

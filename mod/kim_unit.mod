@@ -119,6 +119,7 @@ ASSIGNED {
     xlp (mm)
     alp (1)
     xmp (mm)
+    mvp (1)
     vmp (mm/s)
     ab (1)
     asw (1)
@@ -225,6 +226,7 @@ INITIAL {
     vmp = vm
     ssw = 0
     asw = A
+    mvp = t >= onset
     : Module 3 (KimForce's INITIAL)
     al = A
     xmc = 1e9
@@ -311,13 +313,20 @@ PROCEDURE rhs_all() {
 PROCEDURE step_all(h (ms)) {
     : one fixed step of length h of the three modules, states assigned here (h = dt: the three mechanisms'
     : expressions exactly)
+    LOCAL mvn
     : Module 1
     implicit_step(h)
     : Module 2: KimAct's cnexp update as nocmodl writes it, then eq 19-20 at the step's midpoint
     rates()
     atil = atil + (1 - exp(h*(-kA)))*(-(Ainf*kA)/(-kA) - atil)
     activation(t - 0.5*h, 0)
-    switch_in_step(t - 0.5*h >= onset)
+    mvn = t - 0.5*h >= onset
+    switch_in_step(mvn)
+    if (mvn && !mvp && ssw == 0 && (movdep || lengdiv)) {
+        : KimAct's: the movement onset in this step (A jumped): hold A over the CE substeps
+        ssw = -1
+    }
+    mvp = mvn
     xmp = xl
     vmp = vm
     : Module 3: KimForce's DERIVATIVE block (fixed-step branch), then its BREAKPOINT's report at the step's end
@@ -331,7 +340,11 @@ PROCEDURE step_all(h (ms)) {
     } else {
         ce_step(h)
         if (nsubmax > 1 && Fc > 0) {
-            check_step(h, xlp, alp)
+            if (sw < 0) {
+                check_step(h, xlp, al)
+            } else {
+                check_step(h, xlp, alp)
+            }
         }
     }
     dxce = dxce + h*acs

@@ -21,7 +21,8 @@ when the numerics change on purpose, and say so in the commit):
   took error-controlled substeps (up to 64 since the next change); then CVODE's default rtol went from 1e-6 to
   1e-7 (a weak unit's force erred by up to 1.3 % of peak under random length): CVODE traces moved by at most
   4e-5 of peak, the fixed step's random-length trace by 5e-7; then the CE substeps interpolated the activation
-  too (a regenerative twitch's fall, sweep draw 524): the random-length trace moved by 2.8e-5 of peak.
+  too (a regenerative twitch's fall, sweep draw 524), except in the movement onset's step, where A jumps: the
+  random-length trace moved by 2.8e-5 of peak.
 """
 
 from pathlib import Path
