@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Iterable, Mapping
 
 import h5py
 import numpy as np
@@ -25,6 +25,15 @@ from ..reports.outdir import atomic_path, refuse_existing_file
 SCHEMA = "neuromuscle.simulation/2"
 #: Module 1's calcium states (M).
 CA_STATES = ("CaSR", "CaSRCS", "CaSP", "CaSPB", "CaSPT")
+
+
+def find_variable(names: Iterable[str], slot: str, var: str) -> str | None:
+    """Of the recordable or recorded ``names`` ("slot.variable"), ``slot.var`` if present, else the first other
+    slot's ``var`` outside the length input (a fused unit keeps Modules 1-3 in one slot), else None."""
+    names = list(names)
+    if f"{slot}.{var}" in names:
+        return f"{slot}.{var}"
+    return next((n for n in names if n.split(".", 1)[-1] == var and not n.startswith("length.")), None)
 
 
 @dataclass
@@ -55,10 +64,7 @@ class SimulationResult:
     def variable(self, name: str, slot: str = "act") -> np.ndarray:
         """The trace of variable ``name`` in ``slot``, else in whichever slot records it (the fused KimUnit keeps
         Modules 1-3 in one slot, "muscle")."""
-        if f"{slot}.{name}" in self.traces:
-            return self.traces[f"{slot}.{name}"]
-        found = [k for k in self.traces if k.split(".", 1)[-1] == name]
-        return self[found[0] if found else f"{slot}.{name}"]
+        return self[find_variable(self.traces, slot, name) or f"{slot}.{name}"]
 
     @property
     def A(self) -> np.ndarray:

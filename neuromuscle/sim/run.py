@@ -14,7 +14,7 @@ from ..protocols.lengths import LengthTrace, as_length_trace
 from ..validate import check_spike_times
 from .provenance import provenance
 from .recordings import Recorder, on_time_grid
-from .results import CA_STATES, SimulationResult
+from .results import CA_STATES, SimulationResult, find_variable
 from .simulator import Simulator
 
 
@@ -22,23 +22,16 @@ def default_recordings(unit: MuscleUnit) -> list[str]:
     """The output, A, the length, and whatever of Atil and Module 1's Ca states the unit has (in the slots "act"
     and "ca", or in the one slot of a fused unit such as KimUnit's "muscle")."""
     known = unit.recordables()
-
-    def find(slot: str, var: str) -> list[str]:
-        if f"{slot}.{var}" in known:
-            return [f"{slot}.{var}"]
-        return [n for n in known if n.split(".", 1)[-1] == var and not n.startswith("length.")][:1]
-
-    names = [unit.output, *find("act", "A"), "length.xm", *find("act", "atil")]
-    for var in CA_STATES:
-        names += find("ca", var)
-    return names
+    found = [find_variable(known, "act", "A"), "length.xm", find_variable(known, "act", "atil"),
+             *(find_variable(known, "ca", var) for var in CA_STATES)]
+    return [unit.output, *(n for n in found if n is not None)]
 
 
 def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTrace | float, duration_ms: float,
              *, excitation: Model = None, contraction: Model = None,
              extensions: Mapping[str, Mapping[str, float]] | None = None, record: Sequence[str] | None = None,
-             record_dt_ms: float = 0.1, method: str = "fixed", dt_ms: float = 0.025, atol: float = 1e-3,
-             rtol: float = 1e-7, simulator: Simulator | None = None, initial_state: str = "rest",
+             record_dt_ms: float = 0.1, method: str = "fixed", dt_ms: float = Simulator.dt_ms,
+             atol: float = Simulator.atol, rtol: float = Simulator.rtol, simulator: Simulator | None = None, initial_state: str = "rest",
              provenance_extra: dict | None = None) -> SimulationResult:
     """Simulate one unit from 0 to duration_ms (ms).
 
