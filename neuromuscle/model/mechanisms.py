@@ -26,6 +26,13 @@ from pathlib import Path
 
 from ..errors import MechanismBuildError
 
+#: Extra compiler flags for the mechanisms.  nrnivmodl compiles with -O2; -O3 runs a motoneuron pool 8 % faster
+#: (200 units, 2 s: 6.76 -> 6.23 s) and every trace stays bit-identical (tests/model/test_ports_off_is_baseline.py).
+#: nrnivmodl has no option for compiler flags: they go in through ``-incflags``, which its makefile places
+#: after its own -O2 on the compile line (the last -O wins).  No -march: fused multiply-adds would change the
+#: last bits of every trace.
+COMPILE_FLAGS = "-O3"
+
 
 def required_mechanisms() -> tuple[str, ...]:
     """POINT_PROCESS names the package needs: one per registered component (extensions included)."""
@@ -109,7 +116,8 @@ def _run_with_progress(cmd: list[str], cwd: Path, every_s: float = 10.0) -> subp
 
 def compiled_library() -> Path:
     """Path of ``libnrnmech.so`` for the current mod files, compiling it into the cache if needed."""
-    key = f"{mechanism_hash()[:16]}-nrn{_neuron_version()}-{platform.machine()}"
+    flags = hashlib.sha256(COMPILE_FLAGS.encode()).hexdigest()[:6]
+    key = f"{mechanism_hash()[:16]}-nrn{_neuron_version()}-{platform.machine()}-f{flags}"
     target = cache_root() / key
     lib = _library_in(target)
     if lib is not None:
@@ -125,7 +133,7 @@ def compiled_library() -> Path:
             shutil.copy2(f, tmp / f.name)
         print(f"neuromuscle: compiling {len(list(tmp.glob('*.mod')))} NMODL mechanisms with nrnivmodl into "
               f"{target} (first use only; about a minute)", file=sys.stderr, flush=True)
-        proc = _run_with_progress([_nrnivmodl(), "."], tmp)
+        proc = _run_with_progress([_nrnivmodl(), "-incflags", COMPILE_FLAGS, "."], tmp)
         if proc.returncode != 0 or _library_in(tmp) is None:
             raise MechanismBuildError(
                 f"nrnivmodl failed in {tmp} (exit {proc.returncode}):\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}")
