@@ -30,6 +30,11 @@ from typing import Any
 from ..errors import InputError
 from ..validate import finite_number
 
+#: The channel implementations: "fused" (mn_soma + mn_pic: one mechanism per compartment, tabulated rates under
+#: the fixed step; the default) or "separate" (mn_naf, mn_kdr, mn_can, mn_cadyn, mn_kca + mn_cal: the reference,
+#: one mechanism per channel, NEURON's cnexp).
+CHANNELS = ("fused", "separate")
+
 #: Motor-unit types in size order (slow, fast fatigue-resistant, fast fatigable).
 TYPES = ("S", "FR", "FF")
 
@@ -130,11 +135,13 @@ def motoneuron_parameters(size: float, unit_type: str | None = None, **overrides
 class Motoneuron:
     """The cell in NEURON (soma + dendrite); ``destroy()`` or ``with`` removes it."""
 
-    def __init__(self, params: MotoneuronParameters, name: str = "mn") -> None:
+    def __init__(self, params: MotoneuronParameters, name: str = "mn", channels: str = "fused") -> None:
         from ..model.mechanisms import load_mechanisms
 
         if not isinstance(params, MotoneuronParameters):
             raise InputError(f"{name}: params must be MotoneuronParameters, got {type(params).__name__}")
+        if channels not in CHANNELS:
+            raise InputError(f"{name}: channels must be one of {', '.join(CHANNELS)}, got {channels!r}")
         load_mechanisms()
         from neuron import h
 
@@ -151,6 +158,17 @@ class Motoneuron:
             sec.insert("pas")
             for seg in sec:
                 seg.pas.g, seg.pas.e = 1.0 / rm, p.e_leak_mV
+        self.channels = channels
+        if channels == "fused":
+            self.soma.insert("mn_soma")
+            m = self.soma(0.5).mn_soma
+            m.gnaf, m.gkdr, m.gcan, m.gkca = (p.g_naf_S_per_cm2, p.g_kdr_S_per_cm2, p.g_can_S_per_cm2,
+                                              p.g_kca_S_per_cm2)
+            m.ena, m.ek, m.depth, m.taur = p.ena_mV, p.ek_mV, p.ca_depth_um, p.ca_decay_ms
+            self.dend.insert("mn_pic")
+            for s in self.dend:
+                s.mn_pic.gbar, s.mn_pic.vhalf, s.mn_pic.slope = p.g_cal_S_per_cm2, p.cal_vhalf_mV, p.cal_slope_mV
+            return
         for mech in ("mn_naf", "mn_kdr", "mn_can", "mn_cadyn", "mn_kca"):
             self.soma.insert(mech)
         seg = self.soma(0.5)
@@ -176,11 +194,19 @@ class Motoneuron:
         after ``finitialize`` at the leak reversal)."""
         from neuron import h
 
-        h.finitialize(self.params.e_leak_mV)
-        imp = h.Impedance()
-        imp.loc(0.5, sec=self.soma)
-        imp.compute(0, 1)
-        return float(imp.input(0.5, sec=self.soma))
+        # the extended impedance asks each mechanism for its CVODE Jacobian; the fused channels give it only while
+        # CVODE is on (under the fixed step their DERIVATIVE block advances the gates itself)
+        cv = h.CVode()
+        was_active = cv.active()
+        cv.active(1)
+        try:
+            h.finitialize(self.params.e_leak_mV)
+            imp = h.Impedance()
+            imp.loc(0.5, sec=self.soma)
+            imp.compute(0, 1)
+            return float(imp.input(0.5, sec=self.soma))
+        finally:
+            cv.active(was_active)
 
     def destroy(self) -> None:
         """Remove the sections from NEURON (idempotent)."""

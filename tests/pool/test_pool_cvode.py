@@ -31,7 +31,9 @@ def fixed_runs(ct09):
 @pytest.mark.parametrize("local_dt", [False, True], ids=["global", "local_dt"])
 def test_cvode_pool_agrees_with_fixed_step(ct09, fixed_runs, local_dt):
     fixed, fine = fixed_runs
-    cv = _ramp_pool(ct09, Simulator(method="cvode", atol=1e-3, local_dt=local_dt), per_unit_section=local_dt)
+    # atol 1e-4: at 1e-3 the local step drifted 2 ms over unit 0's 54 spikes and lost the last one (with the
+    # fused channels; the reference channels had kept it by a hair)
+    cv = _ramp_pool(ct09, Simulator(method="cvode", atol=1e-4, local_dt=local_dt), per_unit_section=local_dt)
     assert cv.provenance["settings"]["method"] == "cvode"
     counts = [s.size for s in cv.spikes_ms]
     assert counts[0] > 30 and counts[-1] >= 1  # every unit recruited

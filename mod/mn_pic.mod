@@ -1,0 +1,89 @@
+COMMENT
+The dendritic L-type calcium PIC of mn_cal (same equations, parameters and sources; see mn_cal.mod) as a
+NONSPECIFIC current, for the pool's fast path: its calcium enters no pool, so no calcium ion is needed.
+  i = gbar m (v - erev),  m' = (m_inf - m) / mtau,  m_inf = 1 / (1 + exp(-(v - vhalf)/slope))
+
+Fixed step: m <- m + (1 - exp(-dt/mtau)) (m_inf - m), as NEURON's cnexp, with the logistic read from a table
+over x = (v - vhalf)/slope (-60 to 60 in steps of 0.01, linear interpolation; vhalf and slope may differ from
+cell to cell) and the factor computed once per dt.  usetable_mn_pic = 0 computes the logistic exactly.  CVODE:
+the exact right-hand side.  Units: mV, ms, S/cm2.
+ENDCOMMENT
+
+NEURON {
+    SUFFIX mn_pic
+    THREADSAFE
+    NONSPECIFIC_CURRENT i
+    RANGE gbar, g, erev, vhalf, slope, mtau, mfac, dtseen
+}
+
+UNITS {
+    (mA) = (milliamp)
+    (mV) = (millivolt)
+    (S) = (siemens)
+}
+
+PARAMETER {
+    gbar = 0.0003 (S/cm2)
+    erev = 60 (mV)
+    vhalf = -43 (mV)
+    slope = 6 (mV)
+    mtau = 60 (ms)
+}
+
+ASSIGNED {
+    v (mV)
+    dt (ms)
+    i (mA/cm2)
+    g (S/cm2)
+    sinf (1)
+    mfac (1)
+    dtseen (ms)
+    am (/ms)
+    bm (/ms)
+    zeroed (1)
+}
+
+STATE { m }
+
+INCLUDE "cvode_on.inc"
+
+INITIAL {
+    m = 1 / (1 + exp(-(v - vhalf) / slope))
+    dtseen = -1
+    zeroed = 0
+}
+
+BREAKPOINT {
+    SOLVE states METHOD euler
+    : i is linear in v: NEURON takes di/dv = g instead of a second evaluation
+    CONDUCTANCE g
+    g = gbar * m
+    i = g * (v - erev)
+}
+
+DERIVATIVE states {
+    if (cvode_on()) {
+        zeroed = 0
+        am = 1 / (1 + exp(-(v - vhalf) / slope)) / mtau
+        bm = 1 / mtau
+    } else {
+        if (dt != dtseen) {
+            mfac = 1 - exp(-dt / mtau)
+            dtseen = dt
+        }
+        logistic((v - vhalf) / slope)
+        m = m + mfac * (sinf - m)
+        if (zeroed == 0) {
+            : the state is already advanced: nothing is left for METHOD euler to add
+            am = 0
+            bm = 0
+            zeroed = 1
+        }
+    }
+    m' = am - bm * m
+}
+
+PROCEDURE logistic(x (1)) {
+    TABLE sinf FROM -60 TO 60 WITH 12000
+    sinf = 1 / (1 + exp(-x))
+}

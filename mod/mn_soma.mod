@@ -1,0 +1,183 @@
+COMMENT
+The motoneuron soma's five mechanisms in one (the pool's fast path): mn_naf, mn_kdr, mn_can, mn_cadyn and mn_kca
+with the same equations, parameters and sources (see each of those files), as one NONSPECIFIC current
+  i = gnaf m^3 h (v - ena) + (gkdr n^4 + gkca cai/(cai + kd)) (v - ek) + gcan p^2 q (v - eca)
+  cai' = -(10000) ica / (2 F depth) + (cainf - cai) / taur,   ica = gcan p^2 q (v - eca)
+where p, q are mn_can's m, h.  The submembrane calcium is this mechanism's own state (no ion is shared: only the
+AHP channel reads it), so NEURON runs one mechanism and no ion mechanism in the soma instead of five and three.
+
+Fixed step: each gate advances as NEURON's cnexp would, g <- g + (1 - exp(-dt/tau(v))) (ginf(v) - g), with
+ginf(v) and 1 - exp(-dt/tau(v)) read from a table over v (-120 to 80 mV in 0.025 mV, linear interpolation,
+rebuilt when dt changes): no exp is evaluated per step.  usetable_mn_soma = 0 computes them exactly.  CVODE:
+the exact right-hand sides (no table).  Units: mV, ms, S/cm2, mM, um.
+ENDCOMMENT
+
+NEURON {
+    SUFFIX mn_soma
+    THREADSAFE
+    NONSPECIFIC_CURRENT i
+    RANGE gnaf, gkdr, gcan, gkca, ena, ek, eca, ptau, qtau, kd, depth, taur, cainf, ica, inaf, ik
+    RANGE pfac, qfac, cfac, dtseen
+}
+
+UNITS {
+    (mA) = (milliamp)
+    (mV) = (millivolt)
+    (mM) = (milli/liter)
+    (um) = (micron)
+    (S) = (siemens)
+    FARADAY = (faraday) (coulomb)
+}
+
+PARAMETER {
+    gnaf = 0.7 (S/cm2)
+    gkdr = 0.2 (S/cm2)
+    gcan = 0.01 (S/cm2)
+    gkca = 0.02 (S/cm2)
+    ena = 50 (mV)
+    ek = -80 (mV)
+    eca = 80 (mV)
+    ptau = 15 (ms)
+    qtau = 50 (ms)
+    kd = 0.0005 (mM)
+    depth = 1 (um)
+    taur = 40 (ms)
+    cainf = 0 (mM)
+}
+
+ASSIGNED {
+    v (mV)
+    dt (ms)
+    i (mA/cm2)
+    ica (mA/cm2)
+    inaf (mA/cm2)
+    ik (mA/cm2)
+    gna (S/cm2)
+    gk (S/cm2)
+    gca (S/cm2)
+    gtot (S/cm2)
+    minf (1)
+    mfac (1)
+    hinf (1)
+    hfac (1)
+    ninf (1)
+    nfac (1)
+    pinf (1)
+    qinf (1)
+    mtau (ms)
+    htau (ms)
+    ntau (ms)
+    pfac (1)
+    qfac (1)
+    cfac (1)
+    dtseen (ms)
+    am (/ms)  bm (/ms)  ah (/ms)  bh (/ms)  an (/ms)  bn (/ms)  ap (/ms)  bp (/ms)  aq (/ms)  bq (/ms)
+    ac (mM/ms)  bc (/ms)
+    zeroed (1)
+}
+
+STATE { m h n p q cai (mM) }
+
+INCLUDE "cvode_on.inc"
+
+INITIAL {
+    exact_rates(v)
+    m = minf
+    h = hinf
+    n = ninf
+    p = pinf
+    q = qinf
+    cai = cainf
+    dtseen = -1
+    zeroed = 0
+}
+
+BREAKPOINT {
+    SOLVE states METHOD euler
+    : i is linear in v: NEURON takes di/dv = gtot instead of a second evaluation
+    CONDUCTANCE gtot
+    gna = gnaf * m * m * m * h
+    gk = gkdr * n * n * n * n + gkca * cai / (cai + kd)
+    gca = gcan * p * p * q
+    gtot = gna + gk + gca
+    inaf = gna * (v - ena)
+    ik = gk * (v - ek)
+    ica = gca * (v - eca)
+    i = inaf + ik + ica
+}
+
+DERIVATIVE states {
+    if (cvode_on()) {
+        zeroed = 0
+        exact_rates(v)
+        am = minf / mtau  bm = 1 / mtau
+        ah = hinf / htau  bh = 1 / htau
+        an = ninf / ntau  bn = 1 / ntau
+        ap = pinf / ptau  bp = 1 / ptau
+        aq = qinf / qtau  bq = 1 / qtau
+        ac = -(10000) * ica / (2 * FARADAY * depth) + cainf / taur
+        bc = 1 / taur
+    } else {
+        if (dt != dtseen) {
+            : the factors of the gates with constant time constants, once per dt
+            pfac = 1 - exp(-dt / ptau)
+            qfac = 1 - exp(-dt / qtau)
+            cfac = 1 - exp(-dt / taur)
+            dtseen = dt
+        }
+        tabled(v)
+        m = m + mfac * (minf - m)
+        h = h + hfac * (hinf - h)
+        n = n + nfac * (ninf - n)
+        p = p + pfac * (pinf - p)
+        q = q + qfac * (qinf - q)
+        : cnexp of cai' = ac - cai/taur: cai <- cai + (1 - exp(-dt/taur)) (ac taur - cai)
+        cai = cai + cfac * (taur * (-(10000) * ica / (2 * FARADAY * depth)) + cainf - cai)
+        if (zeroed == 0) {
+            : the states are already advanced: nothing is left for METHOD euler to add
+            am = 0  bm = 0  ah = 0  bh = 0  an = 0  bn = 0  ap = 0  bp = 0  aq = 0  bq = 0  ac = 0  bc = 0
+            zeroed = 1
+        }
+    }
+    m' = am - bm * m
+    h' = ah - bh * h
+    n' = an - bn * n
+    p' = ap - bp * p
+    q' = aq - bq * q
+    cai' = ac - bc * cai
+}
+
+PROCEDURE tabled(v (mV)) {
+    : the fixed step's gate targets and factors at v (tabulated; exact when usetable_mn_soma = 0)
+    TABLE minf, mfac, hinf, hfac, ninf, nfac, pinf, qinf DEPEND dt FROM -120 TO 80 WITH 8000
+    exact_rates(v)
+    mfac = 1 - exp(-dt / mtau)
+    hfac = 1 - exp(-dt / htau)
+    nfac = 1 - exp(-dt / ntau)
+}
+
+PROCEDURE exact_rates(v (mV)) { LOCAL a, b
+    UNITSOFF
+    : mn_naf
+    a = 0.4 * vtrap(v + 49, 5)
+    b = 0.4 * vtrap(-(v + 25), 5)
+    mtau = 1 / (a + b)
+    minf = a / (a + b)
+    hinf = 1 / (1 + exp((v + 58) / 7))
+    htau = 30 / (exp((v + 60) / 15) + exp(-(v + 60) / 16))
+    : mn_kdr
+    ninf = 1 / (1 + exp(-(v + 31) / 15))
+    ntau = 5 / (exp((v + 50) / 40) + exp(-(v + 50) / 50))
+    : mn_can
+    pinf = 1 / (1 + exp(-(v + 25) / 5))
+    qinf = 1 / (1 + exp((v + 43) / 5))
+    UNITSON
+}
+
+FUNCTION vtrap(x, y) {
+    if (fabs(x / y) < 1e-6) {
+        vtrap = y * (1 + x / y / 2)
+    } else {
+        vtrap = x / (1 - exp(-x / y))
+    }
+}

@@ -1,0 +1,84 @@
+"""The fused channels (mn_soma + mn_pic) against the reference channels (mn_naf, mn_kdr, mn_can, mn_cadyn,
+mn_kca + mn_cal): the same equations, so the same spikes, under the fixed step and under CVODE."""
+
+import numpy as np
+import pytest
+
+from neuromuscle.errors import InputError
+from neuromuscle.pool.motoneuron import Motoneuron, motoneuron_parameters
+
+DT = 0.025
+
+
+def _spikes(channels: str, size: float, *, table: bool = True, method: str = "fixed", dt_ms: float = DT,
+            duration_ms: float = 1000.0) -> np.ndarray:
+    """Spike times (ms) of one cell under a current ramp 0 -> 3 rheobase-ish nA with a step in the middle (the
+    PIC turns on, the AHP calcium builds up)."""
+    from neuron import h
+
+    from neuromuscle.model.mechanisms import load_mechanisms
+    from neuromuscle.sim import Simulator
+
+    load_mechanisms()
+    h.usetable_mn_soma = h.usetable_mn_pic = 1 if table else 0
+    try:
+        with Motoneuron(motoneuron_parameters(size), channels=channels) as mn:
+            ic = h.IClamp(mn.soma(0.5))
+            ic.delay, ic.dur = 0.0, 1e9
+            tv = h.Vector([0.0, 400.0, 400.0, duration_ms])
+            av = h.Vector([0.0, 8.0 + 20 * size, 14.0 + 30 * size, 4.0 + 10 * size])
+            av.play(ic._ref_amp, tv, 1)
+            out = h.Vector()
+            nc = h.NetCon(mn.spike_source(), None, sec=mn.soma)
+            nc.threshold = -10.0
+            nc.record(out)
+            Simulator(method=method, dt_ms=dt_ms, v_init_mV=-70.0).run(duration_ms)
+            spikes = np.array(out)
+            av.play_remove()
+            del nc, ic
+    finally:
+        h.usetable_mn_soma = h.usetable_mn_pic = 1
+    return spikes
+
+
+def _max_shift(a: np.ndarray, b: np.ndarray) -> float:
+    assert a.size == b.size, f"{a.size} vs {b.size} spikes"
+    return float(np.abs(a - b).max()) if a.size else 0.0
+
+
+@pytest.mark.parametrize("size", [0.0, 1.0])
+def test_fused_exact_is_the_reference_to_rounding(size):
+    ref = _spikes("separate", size)
+    assert ref.size > 20
+    # cnexp's update and ours differ only in the order of the floating-point operations
+    assert _max_shift(_spikes("fused", size, table=False), ref) <= DT + 1e-9
+
+
+def _drift(a: np.ndarray, b: np.ndarray) -> float:
+    """Largest shift (ms) of the k-th spike over the spikes both trains have."""
+    n = min(a.size, b.size)
+    return float(np.abs(a[:n] - b[:n]).max())
+
+
+@pytest.mark.parametrize("size", [0.0, 1.0])
+def test_the_tables_err_less_than_the_fixed_step(size):
+    ref = _spikes("separate", size)
+    tabled = _spikes("fused", size)
+    halved = _spikes("separate", size, dt_ms=DT / 2)
+    # the tables (0.025 mV) move a spike by at most two steps in a second of firing (measured: one step);
+    # halving dt moves them far more (tens of ms by the end of the run, and a spike more or less)
+    assert _max_shift(tabled, ref) <= 2 * DT + 1e-9
+    assert _drift(halved, ref) > 4 * DT
+
+
+def test_fused_and_separate_agree_under_cvode():
+    a = _spikes("separate", 0.5, method="cvode", duration_ms=600.0)
+    b = _spikes("fused", 0.5, method="cvode", duration_ms=600.0)
+    assert a.size > 10
+    # the integrators' error control sees different state sets (the ions' or the mechanism's own calcium)
+    assert _max_shift(a, b) < 0.1
+
+
+def test_unknown_channels_are_refused():
+    with pytest.raises(InputError, match="channels must be one of"):
+        Motoneuron(motoneuron_parameters(0.2), channels="hh")
