@@ -20,7 +20,8 @@ interrupts only the unit it reaches.
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+import weakref
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -39,6 +40,11 @@ from .result import PoolResult
 SPIKE_THRESHOLD_MV = -10.0
 
 
+def _nobody() -> None:
+    """No pool holds CommonClamp's shared amplitude."""
+    return None
+
+
 def parallel_context() -> Any:
     """NEURON's ParallelContext (MPI if NEURON was started with it)."""
     from neuron import h
@@ -48,6 +54,9 @@ def parallel_context() -> Any:
 
 class Pool:
     """The pool's units owned by this rank (gid % nhost == rank); see the module docstring."""
+
+    #: The pool whose common current plays into CommonClamp's shared amplitude (one at a time per process).
+    _common_owner: Callable[[], "Pool | None"] = _nobody
 
     def __init__(self, definition: PoolDefinition, *, length: LengthTrace | float = -8.0,
                  per_unit_length: bool = False, motoneurons: bool = True, per_unit_section: bool = False
@@ -146,13 +155,41 @@ class Pool:
         if a.size != t.size or t.size < 2:
             raise InputError(f"current ramp: {t.size} times and {a.size} amplitudes (need equal, >= 2)")
         self._set_drive("current")
-        tv, av = h.Vector(t), h.Vector(a)
-        self._keep.extend([tv, av])
+        self._ramp = (h.Vector(t), h.Vector(a))
+        self._clamps: list[Any] = []
+        self._clamp_kind: str | None = None
+
+    def _attach_current(self, sim: Simulator) -> None:
+        """Build the common current's clamps for this run: one CommonClamp per soma and one Vector.play into
+        their shared amplitude (the cheap way), or, where a play into a shared value is not possible (NEURON's
+        local time step needs every play inside a cell; threads would race for it), one IClamp and play per
+        soma.  Both inject the same current."""
+        from neuron import h
+
+        kind = "iclamp" if sim.local_dt or sim.nthread > 1 else "common"
+        owner = Pool._common_owner()
+        if kind == "common" and owner is not None and owner is not self:
+            kind = "iclamp"     # another live pool's current drives CommonClamp's shared amplitude
+        if kind == self._clamp_kind:
+            return
+        tv, av = self._ramp
+        av.play_remove()
+        self._clamps.clear()
         for cell in self.cells.values():
-            ic = h.IClamp(cell.soma(0.5))
-            ic.delay, ic.dur = 0.0, 1e9
-            av.play(ic._ref_amp, tv, 1)
-            self._keep.append(ic)
+            if kind == "common":
+                self._clamps.append(h.CommonClamp(cell.soma(0.5)))
+            else:
+                ic = h.IClamp(cell.soma(0.5))
+                ic.delay, ic.dur = 0.0, 1e9
+                av.play(ic._ref_amp, tv, 1)
+                self._clamps.append(ic)
+        if kind == "common":
+            av.play(h._ref_amp_CommonClamp, tv, 1)
+        if kind == "common":
+            Pool._common_owner = weakref.ref(self)
+        elif owner is self:
+            Pool._common_owner = _nobody
+        self._clamp_kind = kind
 
     def drive_poisson(self, rate_hz: float, weight_uS: float, *, n_inputs: int = 1, tau_ms: float = 2.0,
                       start_ms: float = 0.0, seed: int = 0) -> None:
@@ -215,6 +252,8 @@ class Pool:
             from dataclasses import replace
 
             sim = replace(sim, v_init_mV=-70.0)
+        if self._drive == "current":
+            self._attach_current(sim)
         vecs = {gid: h.Vector() for gid in self.muscle}
         # under CVODE at explicit sample times (see sim.recordings.Recorder: NEURON 9.0.2 aborts when an interval
         # recording's accumulated time falls a rounding error short of a played breakpoint)
@@ -251,6 +290,12 @@ class Pool:
         """Remove every NEURON object of the pool (idempotent)."""
         pc = parallel_context()
         self._keep.clear()
+        if self._drive == "current":
+            self._ramp[1].play_remove()
+            self._clamps.clear()
+            self._clamp_kind = None
+            if Pool._common_owner() is self:
+                Pool._common_owner = _nobody
         for u in self.muscle.values():
             u.destroy()
         for c in self.cells.values():
