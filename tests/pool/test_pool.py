@@ -19,6 +19,36 @@ def test_p0_spread_and_twitch_speed(ct09):
     assert fast["a0"] / fast["P0"] == pytest.approx(ct09["a0"] / ct09["P0"])
 
 
+def _ramp_run(ct09):
+    with Pool(PoolDefinition(4, ct09, smallest_p0_N=0.2, p0_range=20.0)) as pool:
+        pool.drive_current_ramp([0.0, 150.0, 300.0], [0.0, 12.0, 6.0])
+        r = pool.run(300.0)
+        return r, pool._clamp_kind
+
+
+def test_common_clamp_and_per_soma_iclamps_give_the_same_pool(ct09):
+    import weakref
+
+    from neuromuscle.pool import pool as pool_module
+
+    common, kind = _ramp_run(ct09)
+    assert kind == "common"
+
+    class OtherPool:
+        pass
+
+    other = OtherPool()
+    pool_module.Pool._common_owner = weakref.ref(other)  # as if another live pool held the shared amplitude
+    try:
+        own, kind = _ramp_run(ct09)
+    finally:
+        pool_module.Pool._common_owner = pool_module._nobody
+    assert kind == "iclamp"
+    assert sum(s.size for s in common.spikes_ms) > 20
+    assert all(np.array_equal(a, b) for a, b in zip(common.spikes_ms, own.spikes_ms))
+    assert np.array_equal(common.unit_force_N, own.unit_force_N)
+
+
 def test_ramp_recruits_in_size_order_and_saves(ct09, tmp_path):
     d = PoolDefinition(6, ct09, smallest_p0_N=0.2, p0_range=20.0)
     with Pool(d) as pool:
