@@ -82,3 +82,13 @@ def test_fused_and_separate_agree_under_cvode():
 def test_unknown_channels_are_refused():
     with pytest.raises(InputError, match="channels must be one of"):
         Motoneuron(motoneuron_parameters(0.2), channels="hh")
+
+
+@pytest.mark.parametrize("size", [0.0, 1.0])
+def test_fused_and_separate_have_the_same_input_resistance(size):
+    # NEURON's extended impedance linearises each mechanism's CVODE right-hand side and currents
+    rin = {}
+    for channels in ("separate", "fused"):
+        with Motoneuron(motoneuron_parameters(size), channels=channels) as mn:
+            rin[channels] = mn.input_resistance_MOhm()
+    assert rin["fused"] == pytest.approx(rin["separate"], rel=1e-9)
