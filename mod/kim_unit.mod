@@ -253,14 +253,16 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
-    : the length is read once per evaluation
-    xl = xm
+    : the length is read once per evaluation (under the fixed step, once per update: the POINTER read is a
+    : generic data handle in NEURON 9, 3 % of a pool's time when done every step)
     if (cvode_on()) {
+        xl = xm
         rhs_all()
     } else {
         kcount = kcount + 1
         if (kcount >= substeps) {
             kcount = 0
+            xl = xm
             step_all(substeps*dt)
         }
         if (zeroed == 0) {
