@@ -55,13 +55,15 @@ def run_one(n_units: int, ranks: int, duration_ms: float, dt_ms: float, drive: s
 
 def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANKS,
                duration_ms: float = DEFAULT_DURATION_MS, dt_ms: float = 0.025, drive: str = "ramp",
-               full: bool = False, progress: bool = False, muscle: str = "modules", substeps: int = 1,
-               nthread: int = 1) -> dict[str, Any]:
+               full: bool = False, progress: bool = False, muscle: str = "fused", substeps: int = 8,
+               nthread: int = 1, channels: str = "fused") -> dict[str, Any]:
     """Run every (N, ranks) pair and return {"runs": [report, ...], "skipped": [...], settings}; a rank count
     that cannot run here (no MPI) is listed under "skipped" with the reason.  The drive is a common current ramp
     0 -> 20 nA over the run ("ramp": recruitment across the pool) or independent Poisson input ("poisson").
     ``muscle``: "modules" (KimCa, KimAct, KimForce) or "fused" (KimUnit); ``substeps`` k: the fused muscle
-    advances every k membrane steps; ``nthread``: NEURON threads per rank."""
+    advances every k membrane steps; ``nthread``: NEURON threads per rank; ``channels``: the motoneurons'
+    ("fused" or "separate").  The defaults are the fast path (fused muscle every 8 steps, fused channels); the
+    errors of each against the reference are in the README ("Motoneuron pools", speed)."""
     if not units or any(isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in units):
         raise InputError(f"pool sizes must be integers >= 1, got {list(units)}")
     if not ranks or any(isinstance(r, bool) or not isinstance(r, int) or r < 1 for r in ranks):
@@ -78,10 +80,12 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
             raise InputError(f"{name} must be an integer >= 1, got {k!r}")
     if substeps > 1 and muscle != "fused":
         raise InputError(f"substeps = {substeps} needs muscle='fused'")
+    if channels not in ("fused", "separate"):
+        raise InputError(f"channels must be 'fused' or 'separate', got {channels!r}")
     extra = ["--ramp-peak-na", "20"] if drive == "ramp" else []
-    extra += ["--muscle", muscle, "--substeps", str(substeps), "--nthread", str(nthread)]
+    extra += ["--muscle", muscle, "--substeps", str(substeps), "--nthread", str(nthread), "--channels", channels]
     out: dict[str, Any] = {"duration_ms": duration_ms, "dt_ms": dt_ms, "drive": drive, "full": full,
-                           "muscle": muscle, "substeps": substeps, "nthread": nthread,
+                           "muscle": muscle, "substeps": substeps, "nthread": nthread, "channels": channels,
                            "cpu_count": os.cpu_count(), "runs": [], "skipped": []}
     for n in units:
         for r in ranks:
@@ -100,7 +104,8 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
 def table_lines(res: dict[str, Any]) -> list[str]:
     """The result as a Markdown table (N x ranks: wall, sim, build, memory, spikes, load)."""
     lines = [f"pools, {res['duration_ms'] / 1000:g} s simulated at dt {res['dt_ms']} ms, {res['drive']} drive, muscle "
-             f"{res.get('muscle', 'modules')} (substeps {res.get('substeps', 1)}), {res.get('nthread', 1)} thread(s)",
+             f"{res.get('muscle', 'modules')} (substeps {res.get('substeps', 1)}), motoneuron channels "
+             f"{res.get('channels', 'separate')}, {res.get('nthread', 1)} thread(s)",
              "", "| N | ranks | wall s | sim s | build s | s per unit-s | peak MiB (largest rank) | spikes | load |",
              "|---|---|---|---|---|---|---|---|---|"]
     for r in res["runs"]:

@@ -74,10 +74,13 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bp.add_argument("--ranks", default="1,2", help="MPI rank counts, comma separated")
     bp.add_argument("--duration-ms", type=float, default=None, help="simulated time (default 1000; --full 5000)")
     bp.add_argument("--dt-ms", type=float, default=0.025)
-    bp.add_argument("--muscle", choices=("modules", "fused"), default="modules",
+    bp.add_argument("--muscle", choices=("modules", "fused"), default="fused",
                     help="muscle model: modules (KimCa, KimAct, KimForce) or fused (KimUnit: the same numbers)")
-    bp.add_argument("--substeps", type=int, default=1,
-                    help="with --muscle fused: the muscle advances every k membrane steps (step k dt)")
+    bp.add_argument("--substeps", type=int, default=None,
+                    help="with --muscle fused: the muscle advances every k membrane steps (step k dt; default 8, "
+                         "and 1 with --muscle modules)")
+    bp.add_argument("--channels", choices=("fused", "separate"), default="fused",
+                    help="motoneuron channels: fused (mn_soma + mn_pic, tabulated) or separate (the reference)")
     bp.add_argument("--nthread", type=int, default=1, help="NEURON threads per rank")
     bp.add_argument("--drive", choices=("ramp", "poisson"), default="ramp")
     bp.add_argument("--full", action="store_true", help="N = 100..800, 5 s (about half an hour on 2 cores)")
@@ -103,7 +106,9 @@ def run_pool(args: argparse.Namespace) -> int:
     positive_number("--duration-ms", duration)
     positive_number("--dt-ms", args.dt_ms)
     res = bench_pool(units, _int_list("--ranks", args.ranks), duration, args.dt_ms, args.drive, args.full,
-                     progress=True, muscle=args.muscle, substeps=args.substeps, nthread=args.nthread)
+                     progress=True, muscle=args.muscle,
+                     substeps=(8 if args.muscle == "fused" else 1) if args.substeps is None else args.substeps, nthread=args.nthread,
+                     channels=args.channels)
     print(json.dumps(res, indent=1) if args.json else "\n".join(table_lines(res)))
     return 0
 

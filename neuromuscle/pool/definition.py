@@ -11,7 +11,7 @@ import numpy as np
 from ..errors import InputError
 from ..parameters import ParameterSet
 from ..validate import finite_number, positive_number
-from .motoneuron import TYPES, MotoneuronParameters, motoneuron_parameters, unit_type_of
+from .motoneuron import CHANNELS, TYPES, MotoneuronParameters, motoneuron_parameters, unit_type_of
 from .units import TWITCH_SPEED, p0_spread_N, unit_muscle_parameters
 
 
@@ -44,7 +44,9 @@ class PoolDefinition:
     axon length ``axon_length_mm`` (mm).  ``extensions``: {unit index: {extension: {param: value}}} or one
     mapping for every unit (key "all").  ``motoneuron_overrides``: fields replaced in every motoneuron.
     ``muscle_model``: "modules" (KimCa, KimAct, KimForce: takes extensions) or "fused" (KimUnit: the same numbers,
-    faster, no extensions); ``muscle_substeps`` k (fused only): the muscle advances every k membrane steps."""
+    faster, no extensions); ``muscle_substeps`` k (fused only): the muscle advances every k membrane steps.
+    ``motoneuron_channels``: "fused" (mn_soma + mn_pic, tabulated rates) or "separate" (one mechanism per channel,
+    the reference); see ``motoneuron.CHANNELS``."""
 
     n_units: int
     muscle: ParameterSet
@@ -59,6 +61,7 @@ class PoolDefinition:
     name: str = "pool"
     muscle_model: str = "modules"
     muscle_substeps: int = 1
+    motoneuron_channels: str = "fused"
 
     def __post_init__(self) -> None:
         where = f"pool {self.name!r}"
@@ -90,6 +93,9 @@ class PoolDefinition:
         if self.muscle_model == "fused" and any(self.extensions.values()):
             raise InputError(f"{where}: extensions need muscle_model='modules' (the fused KimUnit has no "
                              "modulation ports)")
+        if self.motoneuron_channels not in CHANNELS:
+            raise InputError(f"{where}: motoneuron_channels must be one of {', '.join(CHANNELS)}, got "
+                             f"{self.motoneuron_channels!r}")
         unit_type_of(0.0, tuple(self.type_fractions))  # checks the fractions
         p0_spread_N(int(self.n_units), self.smallest_p0_N, self.p0_range)
         object.__setattr__(self, "_units", None)

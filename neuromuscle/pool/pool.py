@@ -103,7 +103,7 @@ class Pool:
                                               name=f"unit{u.index}")
             pc.set_gid2node(u.index, self.rank)
             if motoneurons:
-                cell = Motoneuron(u.motoneuron, name=f"mn{u.index}")
+                cell = Motoneuron(u.motoneuron, name=f"mn{u.index}", channels=definition.motoneuron_channels)
                 self.cells[u.index] = cell
                 det = h.NetCon(cell.spike_source(), None, sec=cell.soma)
                 det.threshold = SPIKE_THRESHOLD_MV

@@ -67,7 +67,9 @@ class PoolResult:
                           drive=drive, ranks=ranks, pool=definition.name, n_units=definition.n_units,
                           muscle_set=definition.muscle.name, smallest_p0_N=definition.smallest_p0_N,
                           p0_range=definition.p0_range, type_fractions=list(definition.type_fractions),
-                          twitch_speed=dict(definition.twitch_speed),
+                          twitch_speed=dict(definition.twitch_speed), muscle_model=definition.muscle_model,
+                          muscle_substeps=int(definition.muscle_substeps),
+                          motoneuron_channels=definition.motoneuron_channels,
                           length_mm=(length if isinstance(length, float) else getattr(length, "name", "trace")))
         return cls(t, f, [np.asarray(spikes[u.index], float) for u in specs], [u.row() for u in specs], drive,
                    ranks, wall_s, prov)

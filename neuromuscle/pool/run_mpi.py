@@ -51,6 +51,7 @@ class PoolRun:
     muscle: str = "modules"
     substeps: int = 1
     nthread: int = 1
+    channels: str = "fused"
 
 
 def parser() -> argparse.ArgumentParser:
@@ -81,6 +82,8 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--substeps", type=int, default=d.substeps,
                     help="with --muscle fused: the muscle advances every k membrane steps (step k dt)")
     ap.add_argument("--nthread", type=int, default=d.nthread, help="NEURON threads per rank")
+    ap.add_argument("--channels", choices=("fused", "separate"), default=d.channels,
+                    help="motoneuron channels: fused (mn_soma + mn_pic) or separate (one mechanism each)")
     ap.add_argument("--out", default=None, help="HDF5 result (written by rank 0)")
     ap.add_argument("--overwrite", action="store_true")
     ap.add_argument("--json", action="store_true", help="print the JSON report (rank 0)")
@@ -93,7 +96,7 @@ def _config(args: argparse.Namespace) -> PoolRun:
                    rate_hz=args.rate_hz, weight_uS=args.weight_us, seed=args.seed, ramp_peak_nA=args.ramp_peak_na,
                    smallest_p0_N=args.smallest_p0_n, p0_range=args.p0_range, length_mm=args.length_mm,
                    record_dt_ms=args.record_dt_ms, muscle=args.muscle, substeps=args.substeps,
-                   nthread=args.nthread)
+                   nthread=args.nthread, channels=args.channels)
 
 
 def peak_rss_mib() -> float:
@@ -114,7 +117,8 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
     if nhost > cfg.n_units:
         raise InputError(f"{nhost} MPI ranks for a pool of {cfg.n_units} units: use at most one rank per unit")
     definition = PoolDefinition(cfg.n_units, load_parameters(cfg.params), smallest_p0_N=cfg.smallest_p0_N,
-                                p0_range=cfg.p0_range, muscle_model=cfg.muscle, muscle_substeps=cfg.substeps)
+                                p0_range=cfg.p0_range, muscle_model=cfg.muscle, muscle_substeps=cfg.substeps,
+                                motoneuron_channels=cfg.channels)
     definition.units()
     sim = Simulator(method=cfg.method, dt_ms=cfg.dt_ms, atol=cfg.atol, v_init_mV=-70.0, max_wall_s=None,
                     local_dt=cfg.local_dt, nthread=cfg.nthread, label=f"pool of {cfg.n_units} units")
@@ -137,7 +141,8 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
     unit_s = cfg.n_units * cfg.duration_ms / 1000.0
     report = {"n_units": cfg.n_units, "ranks": nhost, "duration_ms": cfg.duration_ms,
               "dt_ms": cfg.dt_ms if cfg.method == "fixed" else None, "method": cfg.method, "muscle": cfg.muscle,
-              "substeps": cfg.substeps, "nthread": cfg.nthread, "local_dt": cfg.local_dt, "drive": cfg.drive,
+              "substeps": cfg.substeps, "nthread": cfg.nthread, "channels": cfg.channels,
+              "local_dt": cfg.local_dt, "drive": cfg.drive,
               "startup_s": startup, "build_s": build, "sim_s": result.wall_s, "wall_s": wall,
               "s_per_unit_s": result.wall_s / unit_s, "spikes": int(sum(s.size for s in result.spikes_ms)),
               "peak_rss_mib": max(rss), "peak_rss_mib_per_rank": rss,

@@ -39,10 +39,22 @@ def test_bench_pool_fused_substeps_reach_the_pool(capsys):
     assert r["spikes"] > 0 and "muscle fused (substeps 2)" in table_lines(res)[0]
 
 
+def test_bench_pool_defaults_are_the_fast_path_and_the_reference_is_a_flag(capsys):
+    assert main(["bench", "pool", "--json", "--units", "3", "--ranks", "1", "--duration-ms", "60"]) == 0
+    fast = json.loads(capsys.readouterr().out)
+    assert (fast["muscle"], fast["substeps"], fast["channels"]) == ("fused", 8, "fused")
+    assert main(["bench", "pool", "--json", "--units", "3", "--ranks", "1", "--duration-ms", "60", "--muscle",
+                 "modules", "--channels", "separate"]) == 0
+    ref = json.loads(capsys.readouterr().out)
+    (r,) = ref["runs"]
+    assert (r["muscle"], r["substeps"], r["channels"]) == ("modules", 1, "separate") and r["spikes"] > 0
+
+
 @pytest.mark.parametrize("kw", [dict(units=[1], ranks=[2]), dict(units=[0]), dict(ranks=[]),
                                 dict(units=[2], drive="sine"), dict(units=[2], muscle="hill"),
-                                dict(units=[2], substeps=2), dict(units=[2], muscle="fused", substeps=0),
-                                dict(units=[2], nthread=0)])
+                                dict(units=[2], muscle="modules", substeps=2),
+                                dict(units=[2], muscle="fused", substeps=0), dict(units=[2], nthread=0),
+                                dict(units=[2], channels="hh")])
 def test_bench_pool_refuses_bad_configurations(kw):
     with pytest.raises(InputError):
         bench_pool(**kw)

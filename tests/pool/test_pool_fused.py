@@ -39,7 +39,8 @@ def test_substeps_error_is_small_and_grows_with_k(ct09, modules_run):
                                           (dict(muscle_substeps=4), "needs muscle_model='fused'"),
                                           (dict(muscle_model="fused", muscle_substeps=0), "muscle_substeps"),
                                           (dict(muscle_model="fused", extensions={"all": {"fatigue": {}}}),
-                                           "extensions need")])
+                                           "extensions need"),
+                                          (dict(motoneuron_channels="hh"), "motoneuron_channels")])
 def test_impossible_fused_definitions_are_refused(ct09, bad, message):
     with pytest.raises(InputError, match=message):
         PoolDefinition(3, ct09, **bad)
