@@ -6,7 +6,10 @@
     mn.destroy()
 
 Channels (mod/mn_*.mod, kinetics and sources in each header): soma mn_naf, mn_kdr, mn_can (N-type Ca),
-mn_cadyn (submembrane Ca), mn_kca (the AHP), leak (pas); dendrite mn_cal (L-type Ca PIC) and leak.  The structure
+mn_cadyn (submembrane Ca), mn_kca (the AHP), leak (pas); dendrite mn_cal (L-type Ca PIC) and leak.  By default
+(``channels="fused"``) the soma's five run as one mechanism, mn_soma, and the PIC as mn_pic: the same equations
+with tabulated rates under the fixed step (exact under CVODE), a third faster in a pool;
+``channels="separate"`` builds the reference (tests/pool/test_motoneuron_channels.py compares them).  The structure
 is that of Booth, Rinzel & Kiehn 1997 (two compartments, PIC in the dendrite); the geometry is an equivalent
 cylinder dendrite.
 
