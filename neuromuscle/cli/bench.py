@@ -28,6 +28,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bd = bsub.add_parser("diagnose", help="wall time of one full diagnosis of the standard 25-trial synthetic file "
                                           "and of its baseline calibration alone")
     bd.add_argument("--workers", type=int, default=2)
+    bd.add_argument("--suite", type=int, default=None, metavar="N",
+                    help="instead: N synthetic preparations per cause (every canonical cause, the out-of-catalogue "
+                         "effect, none) diagnosed blind; hit and false-alarm rates (about 5 min a preparation)")
+    bd.add_argument("--causes", default=None, help="with --suite: only these causes, comma separated")
+    bd.add_argument("--seed", type=int, default=0, help="with --suite: the draws' seed")
     bd.add_argument("--json", action="store_true")
     bd.set_defaults(func=run_diagnose)
     bi = bsub.add_parser("intervals", help="coverage of the fit's 95 %% intervals on SciPy reference data with "
@@ -118,6 +123,16 @@ def run_diagnose(args: argparse.Namespace) -> int:
 
     if args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
+    if args.suite is not None:
+        from ..bench.diagnose_suite import run_suite, suite_cases, table_lines
+
+        causes = [c.strip() for c in args.causes.split(",") if c.strip()] if args.causes else None
+        suite_cases(args.suite, causes, args.seed)  # bad input refused before any work
+        res = run_suite(args.suite, causes=causes, seed=args.seed, workers=args.workers, progress=True)
+        print(json.dumps(res, indent=2) if args.json else "\n".join(table_lines(res)))
+        return 0
+    if args.causes is not None:
+        raise InputError("--causes needs --suite")
     _print(bench_diagnose(args.workers), args.json)
     return 0
 
