@@ -91,6 +91,7 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
     records its draw, the verdict, the held-out gain of the named extension (if any), the rules each fitted
     candidate failed, the trials still structured under the verdict's model and the wall time (s)."""
     from ..diagnose.diagnosis import diagnose_data
+    from ..diagnose.verdict import rest_structured
     from ..synth import make_dataset, without_truth
 
     cases = suite_cases(n_seeds, causes, seed)
@@ -106,6 +107,7 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
                "heldout_gain": None if ev is None else float(ev.chi2_gain),
                "candidates_fitted": {n: e.failed for n, e in d.evidence.items()},
                "structured_trials": list(d.structured_after),
+               "rest_structured_trials": rest_structured(d.rest)[0],
                "wall_s": round(time.perf_counter() - t0, 1)}
         results.append(row)
         if progress:

@@ -17,10 +17,10 @@ from ..measured import MeasuredData
 from ..parameters import ParameterSet, load_parameters
 from .baseline import Baseline, calibrate_baseline, check_split_sizes, check_trials
 from .candidates import Candidate, rank_candidates
-from .extension_fit import ExtensionFit, available, fit_extension
-from .residuals import Noise, Structure, explanatory_variables, noise_level, residual_structure
+from .extension_fit import ExtensionFit, available, fit_extension, fit_reference
+from .residuals import Noise, Structure, explanatory_variables, noise_level, residual_structure, rest_trend_z
 from .split import Split, automatic_split, given_split
-from .verdict import Evidence, is_unexplained, judge, structured_trials
+from .verdict import ACTIVE_STRUCTURE_RATIO, Evidence, is_unexplained, judge, rest_structured, structured_trials
 
 #: Testable candidates with an extension in the catalogue whose extension is fitted, best ranked first.
 MAX_FITS = 4
@@ -29,7 +29,9 @@ MAX_FITS = 4
 @dataclass
 class Diagnosis:
     """Everything the report needs: the split, baseline, noise, residual structure, candidates (ranked), the
-    fitted extensions and their evidence, the verdict, the trials still structured after it, wall time (s)."""
+    reference (baseline with Module 2 refitted on every calibration trial), the fitted extensions and their
+    evidence against it, the verdict, the trials still structured after it, each trial's rest trend z (None
+    without a rest window) under the verdict's model, wall time (s)."""
 
     data: MeasuredData
     split: Split
@@ -43,12 +45,16 @@ class Diagnosis:
     structured_after: list[str]
     structure_after: Structure
     wall_time_s: float
+    reference: ExtensionFit | None = None
+    rest: dict[str, float | None] = field(default_factory=dict)
     variables: dict[str, dict[str, np.ndarray]] = field(repr=False, default_factory=dict)
 
     @property
     def final_simulated(self) -> dict[str, np.ndarray]:
-        """Every trial's force (N) under the verdict's model (the baseline unless a cause is named)."""
-        return self.fits[self.verdict].simulated if self.verdict in self.fits else self.baseline.simulated
+        """Every trial's force (N) under the verdict's model (the reference unless a cause is named)."""
+        if self.verdict in self.fits:
+            return self.fits[self.verdict].simulated
+        return self.reference.simulated if self.reference is not None else self.baseline.simulated
 
 
 def _say(progress: bool, text: str) -> None:
@@ -88,20 +94,26 @@ def diagnose_data(data: MeasuredData, *, heldout: Sequence[str] | None = None, b
     evidence: dict[str, Evidence] = {}
     trials = list(data.trials.values())
     cal = [data.trials[i] for i in split.calibration]
+    _say(progress, "reference: Module 2 refitted on every calibration trial (what each candidate is judged against)")
+    reference = fit_reference(baseline.parameters, cal, trials, baseline.options, workers=workers)
     for k, name in enumerate(to_fit, 1):
         _say(progress, f"candidate {k}/{len(to_fit)}: fitting extension {name!r} on the calibration trials")
-        fits[name] = f = fit_extension(name, baseline.parameters, cal, trials, baseline.options, workers=workers)
-        evidence[name] = judge(split.heldout, measured, baseline.simulated, f.simulated, noise, f.n_parameters,
+        fits[name] = f = fit_extension(name, reference.parameters, cal, trials, baseline.options, workers=workers)
+        evidence[name] = judge(split.heldout, measured, reference.simulated, f.simulated, noise, f.n_parameters,
                                f.away_from_neutral())
         _say(progress, f"  {name}: {evidence[name].text()}")
     passing = [n for n in to_fit if evidence[n].passed]
     if passing:
         verdict = max(passing, key=lambda n: evidence[n].chi2_gain)
-    final = fits[verdict].simulated if passing else baseline.simulated
+    final = fits[verdict].simulated if passing else reference.simulated
     structured = structured_trials(measured, final, noise)
     after = residual_structure(data.trials, {i: final[i] - measured[i] for i in structured}, variables)
+    rest = {i: rest_trend_z(t, final[i] - measured[i], final[i], noise[i]) for i, t in data.trials.items()}
     if not passing:
-        verdict = "unexplained" if is_unexplained(structured, len(data.trials)) else "none"
+        at_rest, n_rest = rest_structured(rest)
+        active = structured_trials(measured, final, noise, ACTIVE_STRUCTURE_RATIO)
+        verdict = ("unexplained" if (n_rest and is_unexplained(at_rest, n_rest))
+                   or is_unexplained(active, len(data.trials)) else "none")
     _say(progress, f"verdict: {verdict}")
     return Diagnosis(data, split, baseline, noise, structure, candidates, fits, evidence, verdict, structured, after,
-                     time.perf_counter() - t0, variables)
+                     time.perf_counter() - t0, variables=variables, reference=reference, rest=rest)

@@ -3,7 +3,9 @@
 The extension is taken from the catalogue by its canonical name (``neuromuscle.model.extensions.registry()``);
 its declared parameters (``Param`` with bounds) are free, from their defaults, within their declared bounds,
 together with Module 2's C1, C2, C3, alpha (the baseline was calibrated without the extension and may have bent
-to absorb the effect).  Objective NRMSE (trials count alike), forward differences, from the baseline's values.
+to absorb the effect).  Objective NRMSE (trials count alike), forward differences, from the given start (the
+reference's Module 2).  The *reference* (``fit_reference``) is the same fit without an extension: Module 2 refitted
+on every calibration trial, the nested model each candidate is judged against (:mod:`.verdict`).
 The 95 % intervals are the fit's (``hac+integrator``: HAC covariance per trial and the integrator's error, see
 :mod:`neuromuscle.fit.intervals`).
 """
@@ -57,9 +59,25 @@ def available() -> list[str]:
     return sorted(registry())
 
 
+#: The reference's name in fits and reports.
+REFERENCE = "reference"
+
+
+def fit_reference(baseline: ParameterSet, calibration: Sequence[Trial], all_trials: Sequence[Trial],
+                  options: SimulationOptions, *, workers: int = 1, max_iterations: int = 10) -> ExtensionFit:
+    """The baseline with Module 2 (C1, C2, C3, alpha) refitted on every ``calibration`` trial, no extension;
+    ``all_trials`` simulated with it."""
+    res = fit(FitProblem(list(calibration), baseline, {n: None for n in MODULE2_FREE}, objective="nrmse",
+                         options=options), workers=workers, progress=False, max_iterations=max_iterations, fd="forward")
+    params = ParameterSet(baseline.name, res.parameters.values,
+                          f"{baseline.source}; Module 2 refitted on every calibration trial (the reference)")
+    return ExtensionFit(REFERENCE, params, {}, {}, {}, res, simulate_all(params, all_trials, options))
+
+
 def fit_extension(name: str, baseline: ParameterSet, calibration: Sequence[Trial], all_trials: Sequence[Trial],
                   options: SimulationOptions, *, workers: int = 1, max_iterations: int = 10) -> ExtensionFit:
-    """Fit extension ``name`` (+ Module 2) on ``calibration``; simulate ``all_trials`` with the result."""
+    """Fit extension ``name`` (+ Module 2, from ``baseline``'s values: the reference's) on ``calibration``;
+    simulate ``all_trials`` with the result."""
     known = registry()
     if name not in known:
         raise InputError(f"no extension {name!r} in the catalogue (have: {', '.join(sorted(known)) or 'none'})")

@@ -6,8 +6,8 @@ Writes into DIR (refused when DIR already holds a report, unless overwrite; chec
   parameters with 95 % intervals and test statistics, untestable causes, baseline NRMSE per trial, the split,
   noise per trial, the residual structure, the decision rule;
 * ``report.md``       the verdict first, the trials' held-out error before and after, candidates, figures;
-* ``params.json``     the model of the verdict (baseline + fitted extension); ``neuromuscle simulate --params
-  DIR/params.json [--extension NAME]`` accepts it;
+* ``params.json``     the model of the verdict (the named cause's fit, else the reference); ``neuromuscle
+  simulate --params DIR/params.json [--extension NAME]`` accepts it;
 * ``figures/*.png``   measured vs baseline vs extended for the trials that decide, residuals against their best
   explanatory variable.
 """
@@ -65,7 +65,10 @@ def write_report(d: Diagnosis, data_path: str | Path, out_dir: str | Path, *,
 
 
 def _final_parameters(d: Diagnosis) -> ParameterSet:
-    return d.fits[d.verdict].parameters if d.verdict in d.fits else d.baseline.parameters
+    """The verdict's model: the named cause's fit, else the reference (else the baseline)."""
+    if d.verdict in d.fits:
+        return d.fits[d.verdict].parameters
+    return d.reference.parameters if d.reference is not None else d.baseline.parameters
 
 
 def _mean_nrmse(d: Diagnosis, sims: dict[str, np.ndarray], ids: Sequence[str]) -> float:
@@ -73,7 +76,8 @@ def _mean_nrmse(d: Diagnosis, sims: dict[str, np.ndarray], ids: Sequence[str]) -
 
 
 def _cause_entries(d: Diagnosis) -> list[dict[str, Any]]:
-    before = _mean_nrmse(d, d.baseline.simulated, d.split.heldout)
+    before = _mean_nrmse(d, d.reference.simulated if d.reference is not None else d.baseline.simulated,
+                         d.split.heldout)
     fitted = sorted(d.fits, key=lambda n: (not d.evidence[n].passed, -d.evidence[n].chi2_gain))
     entries = []
     for n in fitted:
@@ -108,6 +112,11 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
         "baseline": {"nrmse": d.baseline.nrmse, "parameters": dict(d.baseline.parameters.values),
                      "stages": [{"stage": s.stage, "values": s.values, "skipped": s.skipped, "data": s.trials,
                                  "notes": s.notes} for s in d.baseline.stages]},
+        "reference": None if d.reference is None else {
+            "what": "the baseline with Module 2 refitted on every calibration trial; the candidates' held-out "
+                    "NRMSE before and gains are measured against it",
+            "module2": dict(d.reference.fit.estimates),
+            "nrmse": {i: nrmse_percent(t.force, d.reference.simulated[i]) for i, t in d.data.trials.items()}},
         "final": {"nrmse": {i: nrmse_percent(t.force, final[i]) for i, t in d.data.trials.items()}},
         "split": d.split.to_json(),
         "noise": {i: n.to_json() | {"nrmse_floor": 100 * n.sd_N / float(np.ptp(d.data.trials[i].force))}
@@ -116,9 +125,13 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
                                             "eta2": d.structure.eta2},
                                "after_verdict": {"structured_trials": d.structured_after,
                                                  "best_variable": d.structure_after.best_variable,
-                                                 "eta2": d.structure_after.eta2}},
+                                                 "eta2": d.structure_after.eta2,
+                                                 "rest_trend_z": d.rest,
+                                                 "rest_structured_trials": rule.rest_structured(d.rest)[0]}},
         "decision_rule": {"n_bootstrap": rule.N_BOOTSTRAP, "min_excess_removed": rule.MIN_EXCESS_REMOVED,
-                          "structure_ratio": rule.STRUCTURE_RATIO, "min_structured_trials": rule.MIN_STRUCTURED_TRIALS,
+                          "structure_ratio": rule.STRUCTURE_RATIO,
+                          "active_structure_ratio": rule.ACTIVE_STRUCTURE_RATIO, "rest_z": rule.REST_Z,
+                          "min_structured_trials": rule.MIN_STRUCTURED_TRIALS,
                           "min_structured_fraction": rule.MIN_STRUCTURED_FRACTION,
                           "text": " ".join(rule.__doc__.split())},
         "simulation": {"method": "fixed step", "dt_ms": DT_MS, "record_dt_ms": d.baseline.options.record_dt_ms,
@@ -196,6 +209,10 @@ def markdown(doc: dict[str, Any]) -> str:
                       f"{', '.join(s['structured_trials'])}; the residual follows "
                       f"**{s['best_variable'].replace('_', ' ')}** most (eta^2 "
                       f"{s['eta2'].get(s['best_variable'], 0.0):.2f}).", ""]
+        if s.get("rest_structured_trials"):
+            lines += [f"Trials whose force trends in time (|z| > {rule.REST_Z}) where the model's muscle is quiet "
+                      f"(isometric, before the first stimulus or after relaxation; no muscle parameter acts there): "
+                      f"{', '.join(s['rest_structured_trials'])}.", ""]
     else:
         c = next(c for c in fitted if c["name"] == v)
         lines += [f"**Verdict: {v}.** Held-out NRMSE {c['nrmse_heldout_before']:.2f} % -> "

@@ -5,9 +5,10 @@ import pytest
 
 from conftest import ar1
 from diagnose_datasets import make_data
-from neuromuscle.diagnose.residuals import noise_level
+from neuromuscle.diagnose.residuals import noise_level, rest_mask, rest_trend_z
 from neuromuscle.diagnose.split import automatic_split, given_split
-from neuromuscle.diagnose.verdict import is_unexplained, judge
+from neuromuscle.diagnose.verdict import is_unexplained, judge, rest_structured
+from neuromuscle.measured import Trial
 from neuromuscle.errors import InputError
 
 
@@ -61,6 +62,42 @@ def test_rule_refuses_an_unidentified_extension():
 def test_unexplained_needs_several_trials():
     assert not is_unexplained(["a"], 10) and not is_unexplained(["a", "b"], 10)
     assert is_unexplained(["a", "b", "c"], 10) and not is_unexplained(["a", "b", "c"], 25)
+
+
+def _twitch_trial(rng, extra, moving=False):
+    """A 1 s twitch (stimulus at 0.1 s, model force back at rest by ~0.5 s) at 1 kHz: the model's force, and the
+    trial measured as model + ``extra`` + AR(1) noise (sd 0.35 N, rho 0.8)."""
+    t = np.arange(1000) * 1e-3
+    s = np.clip(t - 0.1, 0, None)
+    sim = 0.5 + 4.0 * (s / 0.08) * np.exp(1 - s / 0.08)
+    force = sim + extra(t) + ar1(rng, t.size, 0.35, 0.8)
+    length = -8.0 + (2.0 * t if moving else 0.0 * t)
+    return Trial(trial_id="tw", protocol="twitch", time_s=t, force=force, force_unit="N", length_unit="mm",
+                 length=length, stimulus_times_s=np.array([0.1])), sim
+
+
+@pytest.mark.parametrize("extra, structured", [
+    (lambda t: 0.0 * t, False),                               # noise only
+    (lambda t: 0.0 * t + 0.6, False),                         # a constant offset (passive force misfit)
+    (lambda t: 0.9 * np.sin(2 * np.pi * t / 4.0 + 2.5), True),  # a transducer drift (synth's weakest), period 4 s
+    (lambda t: 0.9 * np.sin(2 * np.pi * t / 4.0 - 0.5), True),
+])
+def test_rest_trend_sees_force_change_where_the_muscle_is_quiet(extra, structured):
+    """Rest: before the stimulus and >= 250 ms after it, where the model's force is back at its level.  (A drift
+    near its crest is flat over one trial and not seen in it: the verdict counts trials.)"""
+    for seed in range(5):
+        trial, sim = _twitch_trial(np.random.default_rng(seed), extra)
+        nz = noise_level(trial.force - sim)
+        m = rest_mask(trial, sim, nz.sd_N)
+        assert m[:100].all() and not m[100:350].any() and m[-300:].all()
+        z = rest_trend_z(trial, sim - trial.force, sim, nz)
+        assert (abs(z) > 3.0) == structured, (seed, z)
+
+
+def test_rest_trend_needs_an_isometric_trial_with_rest():
+    trial, sim = _twitch_trial(np.random.default_rng(0), lambda t: 0.0 * t, moving=True)
+    assert rest_trend_z(trial, sim - trial.force, sim, noise_level(trial.force - sim)) is None
+    assert rest_structured({"a": None, "b": -3.5, "c": 2.9}) == (["b"], 2)
 
 
 def test_automatic_split_puts_each_protocol_on_both_sides():
