@@ -2,12 +2,13 @@
 
 Lengths are set relative to the preparation's optimum (as an experimenter sets them after a length-tension scan):
 "optimal" at the optimum, "short" SHORT_MM below it, "long" LONG_MM above it.  Every stimulated trial starts with
-PRE_S of rest before its first stimulus.  26 trials, about 65 s of simulated time in all (``total_duration_s``):
+PRE_S of rest before its first stimulus.  27 trials, about 80 s of simulated time in all (``total_duration_s``):
 
 * twitches at the three lengths; 10 and 40 Hz trains (1 s) at the three lengths; 3 Hz (4 s), 20 Hz (1 s) and
   100 Hz (0.5 s) trains at the optimum;
 * doublets: a 10 Hz train (1 s) at the optimum whose first stimulus is followed by one more 5, 10 or 15 ms later;
-* a long 40 Hz train (12 s) at the optimum (fatigue);
+* long 30 Hz and 40 Hz trains (12 s) at the optimum (fatigue; two, so that a split can calibrate on one and
+  judge on the other);
 * potentiation: three twitches 1 s apart, a 100 Hz conditioning train (1 s), four twitches 2 s apart;
 * isokinetic ramps between short and optimal, lengthening and shortening, during a 10 Hz (10 mm/s) or a 40 Hz
   (20 mm/s) train;
@@ -94,7 +95,9 @@ def standard_protocols(optimum_mm: float) -> list[PlannedTrial]:
         stims = np.sort(np.concatenate([_train(10, 1.0), [PRE_S + isi / 1000.0]]))
         trials.append(_isometric(f"doublet{isi}_opt", "doublet", stims, opt, "optimal", rate_hz=10,
                                  doublet_isi_ms=float(isi)))
-    trials.append(_isometric("long_train40_opt", "long_train", _train(40, 12.0), opt, "optimal", rate_hz=40))
+    for rate in (30, 40):  # two, so that the diagnosis's split can hold one out
+        trials.append(_isometric(f"long_train{rate}_opt", "long_train", _train(rate, 12.0), opt, "optimal",
+                                 rate_hz=rate))
     pap = np.concatenate([PRE_S + np.arange(3.0), _train(100, 1.0, PRE_S + 3.0), PRE_S + 5.0 + 2.0 * np.arange(4)])
     trials.append(_isometric("potentiation_opt", "potentiation", pap, opt, "optimal", rate_hz=100,
                              twitch_times_s=np.concatenate([pap[:3], pap[-4:]])))

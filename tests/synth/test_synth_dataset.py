@@ -21,7 +21,8 @@ NULL_TRIALS = ("twitch_opt", "train3_opt", "ramp_lengthen10")
 def test_standard_protocol_set_is_about_25_trials_and_modest_in_time():
     plan = standard_protocols(-8.0)
     assert 24 <= len(plan) <= 28
-    assert total_duration_s(plan) < 80.0
+    assert total_duration_s(plan) < 85.0  # 80 s: two 12 s long trains (one for each side of a diagnosis's split)
+    assert sum(p.protocol == "long_train" for p in plan) == 2
     kinds = {p.protocol for p in plan}
     assert {"twitch", "train", "doublet", "long_train", "potentiation", "isokinetic", "stretch_hold",
             "shorten_hold", "random_length", "step"} <= kinds
