@@ -17,6 +17,7 @@ from typing import Any, Sequence
 
 from ..errors import InputError, NeuromuscleError
 from ..pool.mpi import mpi_available, mpiexec_command
+from ..pool.motoneuron import CHANNELS
 
 #: Default run (about two minutes on this 2-core machine) and --full (the issue's table).
 DEFAULT_UNITS = (50, 100)
@@ -80,8 +81,8 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
             raise InputError(f"{name} must be an integer >= 1, got {k!r}")
     if substeps > 1 and muscle != "fused":
         raise InputError(f"substeps = {substeps} needs muscle='fused'")
-    if channels not in ("fused", "separate"):
-        raise InputError(f"channels must be 'fused' or 'separate', got {channels!r}")
+    if channels not in CHANNELS:
+        raise InputError(f"channels must be one of {', '.join(CHANNELS)}, got {channels!r}")
     extra = ["--ramp-peak-na", "20"] if drive == "ramp" else []
     extra += ["--muscle", muscle, "--substeps", str(substeps), "--nthread", str(nthread), "--channels", channels]
     out: dict[str, Any] = {"duration_ms": duration_ms, "dt_ms": dt_ms, "drive": drive, "full": full,

@@ -8,6 +8,7 @@ import argparse
 import json
 
 from ..errors import InputError
+from ..pool.motoneuron import CHANNELS
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -84,7 +85,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bp.add_argument("--substeps", type=int, default=None,
                     help="with --muscle fused: the muscle advances every k membrane steps (step k dt; default 8, "
                          "and 1 with --muscle modules)")
-    bp.add_argument("--channels", choices=("fused", "separate"), default="fused",
+    bp.add_argument("--channels", choices=CHANNELS, default="fused",
                     help="motoneuron channels: fused (mn_soma + mn_pic, tabulated) or separate (the reference)")
     bp.add_argument("--nthread", type=int, default=1, help="NEURON threads per rank")
     bp.add_argument("--drive", choices=("ramp", "poisson"), default="ramp")
@@ -110,9 +111,9 @@ def run_pool(args: argparse.Namespace) -> int:
         FULL_DURATION_MS if args.full else DEFAULT_DURATION_MS)
     positive_number("--duration-ms", duration)
     positive_number("--dt-ms", args.dt_ms)
+    substeps = (8 if args.muscle == "fused" else 1) if args.substeps is None else args.substeps
     res = bench_pool(units, _int_list("--ranks", args.ranks), duration, args.dt_ms, args.drive, args.full,
-                     progress=True, muscle=args.muscle,
-                     substeps=(8 if args.muscle == "fused" else 1) if args.substeps is None else args.substeps, nthread=args.nthread,
+                     progress=True, muscle=args.muscle, substeps=substeps, nthread=args.nthread,
                      channels=args.channels)
     print(json.dumps(res, indent=1) if args.json else "\n".join(table_lines(res)))
     return 0

@@ -44,17 +44,15 @@ class Diagnosis:
     verdict: str
     structured_after: list[str]
     structure_after: Structure
+    reference: ExtensionFit
+    rest: dict[str, float | None]
     wall_time_s: float
-    reference: ExtensionFit | None = None
-    rest: dict[str, float | None] = field(default_factory=dict)
     variables: dict[str, dict[str, np.ndarray]] = field(repr=False, default_factory=dict)
 
     @property
     def final_simulated(self) -> dict[str, np.ndarray]:
         """Every trial's force (N) under the verdict's model (the reference unless a cause is named)."""
-        if self.verdict in self.fits:
-            return self.fits[self.verdict].simulated
-        return self.reference.simulated if self.reference is not None else self.baseline.simulated
+        return self.fits[self.verdict].simulated if self.verdict in self.fits else self.reference.simulated
 
 
 def _say(progress: bool, text: str) -> None:
@@ -116,4 +114,4 @@ def diagnose_data(data: MeasuredData, *, heldout: Sequence[str] | None = None, b
                    or is_unexplained(active, len(data.trials)) else "none")
     _say(progress, f"verdict: {verdict}")
     return Diagnosis(data, split, baseline, noise, structure, candidates, fits, evidence, verdict, structured, after,
-                     time.perf_counter() - t0, variables=variables, reference=reference, rest=rest)
+                     reference, rest, time.perf_counter() - t0, variables)

@@ -59,6 +59,13 @@ def available() -> list[str]:
     return sorted(registry())
 
 
+def _fit_on(calibration: Sequence[Trial], start: ParameterSet, free: dict, options: SimulationOptions, workers: int,
+            max_iterations: int) -> FitResult:
+    """The one fit of this step: ``free`` parameters from ``start`` on ``calibration``, NRMSE, forward differences."""
+    return fit(FitProblem(list(calibration), start, free, objective="nrmse", options=options), workers=workers,
+               progress=False, max_iterations=max_iterations, fd="forward")
+
+
 #: The reference's name in fits and reports.
 REFERENCE = "reference"
 
@@ -67,8 +74,7 @@ def fit_reference(baseline: ParameterSet, calibration: Sequence[Trial], all_tria
                   options: SimulationOptions, *, workers: int = 1, max_iterations: int = 10) -> ExtensionFit:
     """The baseline with Module 2 (C1, C2, C3, alpha) refitted on every ``calibration`` trial, no extension;
     ``all_trials`` simulated with it."""
-    res = fit(FitProblem(list(calibration), baseline, {n: None for n in MODULE2_FREE}, objective="nrmse",
-                         options=options), workers=workers, progress=False, max_iterations=max_iterations, fd="forward")
+    res = _fit_on(calibration, baseline, {n: None for n in MODULE2_FREE}, options, workers, max_iterations)
     params = ParameterSet(baseline.name, res.parameters.values,
                           f"{baseline.source}; Module 2 refitted on every calibration trial (the reference)")
     return ExtensionFit(REFERENCE, params, {}, {}, {}, res, simulate_all(params, all_trials, options))
@@ -88,8 +94,7 @@ def fit_extension(name: str, baseline: ParameterSet, calibration: Sequence[Trial
     free = {**bounds, **{n: None for n in MODULE2_FREE}}
     opts = replace(options, extensions=(name,))
     base = baseline.with_values(start)
-    res = fit(FitProblem(list(calibration), base, free, objective="nrmse", options=opts), workers=workers,
-              progress=False, max_iterations=max_iterations, fd="forward")
+    res = _fit_on(calibration, base, free, opts, workers, max_iterations)
     params = ParameterSet(f"{baseline.name}+{name}", res.parameters.values,
                           f"{baseline.source}; extension {name} fitted on the calibration trials")
     sims = simulate_all(params, all_trials, options, extensions=(name,))

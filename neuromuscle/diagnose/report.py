@@ -65,10 +65,8 @@ def write_report(d: Diagnosis, data_path: str | Path, out_dir: str | Path, *,
 
 
 def _final_parameters(d: Diagnosis) -> ParameterSet:
-    """The verdict's model: the named cause's fit, else the reference (else the baseline)."""
-    if d.verdict in d.fits:
-        return d.fits[d.verdict].parameters
-    return d.reference.parameters if d.reference is not None else d.baseline.parameters
+    """The verdict's model: the named cause's fit, else the reference."""
+    return d.fits[d.verdict].parameters if d.verdict in d.fits else d.reference.parameters
 
 
 def _mean_nrmse(d: Diagnosis, sims: dict[str, np.ndarray], ids: Sequence[str]) -> float:
@@ -76,8 +74,7 @@ def _mean_nrmse(d: Diagnosis, sims: dict[str, np.ndarray], ids: Sequence[str]) -
 
 
 def _cause_entries(d: Diagnosis) -> list[dict[str, Any]]:
-    before = _mean_nrmse(d, d.reference.simulated if d.reference is not None else d.baseline.simulated,
-                         d.split.heldout)
+    before = _mean_nrmse(d, d.reference.simulated, d.split.heldout)
     fitted = sorted(d.fits, key=lambda n: (not d.evidence[n].passed, -d.evidence[n].chi2_gain))
     entries = []
     for n in fitted:
@@ -112,7 +109,7 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
         "baseline": {"nrmse": d.baseline.nrmse, "parameters": dict(d.baseline.parameters.values),
                      "stages": [{"stage": s.stage, "values": s.values, "skipped": s.skipped, "data": s.trials,
                                  "notes": s.notes} for s in d.baseline.stages]},
-        "reference": None if d.reference is None else {
+        "reference": {
             "what": "the baseline with Module 2 refitted on every calibration trial; the candidates' held-out "
                     "NRMSE before and gains are measured against it",
             "module2": dict(d.reference.fit.estimates),

@@ -185,7 +185,6 @@ class Pool:
                 self._clamps.append(ic)
         if kind == "common":
             av.play(h._ref_amp_CommonClamp, tv, 1)
-        if kind == "common":
             Pool._common_owner = weakref.ref(self)
         elif owner is self:
             Pool._common_owner = _nobody

@@ -25,6 +25,8 @@ import time
 from dataclasses import dataclass
 from typing import Any, Sequence
 
+from .motoneuron import CHANNELS
+
 _START = time.perf_counter()
 
 
@@ -82,7 +84,7 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--substeps", type=int, default=d.substeps,
                     help="with --muscle fused: the muscle advances every k membrane steps (step k dt)")
     ap.add_argument("--nthread", type=int, default=d.nthread, help="NEURON threads per rank")
-    ap.add_argument("--channels", choices=("fused", "separate"), default=d.channels,
+    ap.add_argument("--channels", choices=CHANNELS, default=d.channels,
                     help="motoneuron channels: fused (mn_soma + mn_pic) or separate (one mechanism each)")
     ap.add_argument("--out", default=None, help="HDF5 result (written by rank 0)")
     ap.add_argument("--overwrite", action="store_true")
