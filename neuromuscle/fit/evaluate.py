@@ -8,6 +8,11 @@
 * **Map.**  All candidates of one Jacobian are evaluated by one call of the map in a fixed order, so serial and
   parallel fits are identical: every candidate is a pure function of its parameter vector (fixed-step
   integration; each simulation builds and tears down its unit).
+* **Trial pool** (:class:`TrialPool`, ``fit(..., workers=N)``).  The work is split by (candidate, trial), not
+  by candidate, longest trials first: a single candidate (a trust-region step, the final run, the half-step
+  re-run of the intervals) then uses every worker too, and a Jacobian's candidates need not be a multiple of
+  the workers.  The problem is sent to each worker once, when the pool starts.  The forces are the same
+  simulations as in one process, so the fit is identical.
 """
 
 from __future__ import annotations
@@ -16,7 +21,7 @@ import concurrent.futures
 import multiprocessing
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, Sequence
 
 import numpy as np
 
@@ -100,6 +105,60 @@ def evaluate_candidate(problem: FitProblem, z: np.ndarray) -> np.ndarray:
         return problem.residuals(z)
     except NumericalError:
         return np.full(problem.n_residuals, np.nan)
+
+
+_WORKER_PROBLEM: "FitProblem | None" = None
+
+
+def _install_problem(problem: FitProblem) -> None:
+    """Pool initializer: the problem every task of this worker simulates."""
+    global _WORKER_PROBLEM
+    _WORKER_PROBLEM = problem
+
+
+def _simulate_task(task: tuple[np.ndarray, int, SimulationOptions | None]) -> np.ndarray | None:
+    """One (candidate z, trial index, options) of the worker's problem: the force (N), None when the run fails
+    numerically."""
+    z, k, options = task
+    assert _WORKER_PROBLEM is not None
+    try:
+        return _WORKER_PROBLEM.simulate_trial(z, k, options)
+    except NumericalError:
+        return None
+
+
+class TrialPool:
+    """``workers`` processes that simulate (candidate, trial) pairs of one :class:`FitProblem` (module
+    docstring); a context manager: the processes stop on exit."""
+
+    def __init__(self, problem: FitProblem, workers: int, mp_context: str = "spawn") -> None:
+        self.problem = problem
+        costs = problem.trial_costs()
+        self._order = sorted(range(len(costs)), key=lambda k: -costs[k])  # longest first
+        self._pool = concurrent.futures.ProcessPoolExecutor(
+            workers, mp_context=multiprocessing.get_context(mp_context), initializer=_install_problem,
+            initargs=(problem,))
+
+    def __enter__(self) -> TrialPool:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._pool.shutdown(cancel_futures=True)
+
+    def simulate(self, zs: Sequence[np.ndarray],
+                 options: SimulationOptions | None = None) -> list[list[np.ndarray] | None]:
+        """Every trial's force (N, in trial order) for each candidate of ``zs`` (None for a candidate whose run
+        failed numerically)."""
+        tasks = [(c, k) for k in self._order for c in range(len(zs))]
+        out: list[list[Any]] = [[None] * len(self.problem.trials) for _ in zs]
+        for (c, k), f in zip(tasks, self._pool.map(_simulate_task, [(zs[c], k, options) for c, k in tasks])):
+            out[c][k] = f
+        return [None if any(f is None for f in sims) else sims for sims in out]
+
+    def residuals(self, zs: Sequence[np.ndarray]) -> list[np.ndarray]:
+        """The residual vectors of ``zs`` (NaN for a candidate whose run failed numerically)."""
+        return [np.full(self.problem.n_residuals, np.nan) if sims is None else self.problem.residuals_from(sims)
+                for sims in self.simulate(zs)]
 
 
 def serial_map(fn: Callable, items: Iterable) -> list:

@@ -13,35 +13,44 @@
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
 from ..errors import InputError
+from .evaluate import SimulationOptions
 from .problem import FitProblem
 from .uncertainty import Rules, Uncertainty, estimate_uncertainty
 
 INTERVAL_METHODS = ("hac+integrator", "hac", "iid")
 
 
-def integrator_error(problem: FitProblem, z: np.ndarray, sims: Sequence[np.ndarray]) -> np.ndarray:
+#: simulate(z, options) -> every trial's force (N): how the half-step re-run is made (default
+#: ``FitProblem.simulate_trials``, in this process; ``fit`` passes its worker pool's).
+Simulate = Callable[[np.ndarray, SimulationOptions], Sequence[np.ndarray]]
+
+
+def integrator_error(problem: FitProblem, z: np.ndarray, sims: Sequence[np.ndarray],
+                     simulate: Simulate | None = None) -> np.ndarray:
     """The estimated error of the fixed-step residuals at z (residual units, :mod:`.objectives`):
     2 (r_dt - r_dt/2), from ``sims`` (N, the trials simulated at z with the problem's options) and a re-run
     at half the step."""
     half = replace(problem.options, dt_ms=problem.options.dt_ms / 2.0)
-    return 2.0 * (problem.residuals_from(sims) - problem.residuals_from(problem.simulate_trials(z, half)))
+    rerun = (simulate or problem.simulate_trials)(z, half)
+    return 2.0 * (problem.residuals_from(sims) - problem.residuals_from(rerun))
 
 
 def fit_uncertainty(problem: FitProblem, z: np.ndarray, jac: np.ndarray, sims: Sequence[np.ndarray],
-                    intervals: str = INTERVAL_METHODS[0], rules: Rules | None = None) -> Uncertainty:
+                    intervals: str = INTERVAL_METHODS[0], rules: Rules | None = None,
+                    simulate: Simulate | None = None) -> Uncertainty:
     """The :class:`Uncertainty` of ``problem``'s estimate z from the Jacobian ``jac`` (dr/dz) and the simulated
     forces ``sims`` (N) at z, by the interval method ``intervals`` (module docstring); rules: default
-    ``Rules.for_fit()``."""
+    ``Rules.for_fit()``; simulate: how the half-step re-run is made (:data:`Simulate`)."""
     if intervals not in INTERVAL_METHODS:
         raise InputError(f"intervals must be one of {INTERVAL_METHODS}, got {intervals!r}")
     covariance, _, extra = intervals.partition("+")
     r = problem.residuals_from(sims)
-    error = integrator_error(problem, z, sims) if extra else None
+    error = integrator_error(problem, z, sims, simulate) if extra else None
 
     def to_p(zz: np.ndarray) -> np.ndarray:
         return np.array(list(problem.to_values(zz).values()))

@@ -9,15 +9,16 @@ import time
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
-from typing import Any
+from contextlib import contextmanager
+from typing import Any, Callable, Iterable, Iterator
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, NumericalError
 from ..analysis.metrics import nrmse_percent
 from ..parameters import SPECS, ParameterSet
 from .checkpoint import Tracker, read_checkpoint
-from .evaluate import MapFn, candidate_map, evaluate_candidate
+from .evaluate import MapFn, SimulationOptions, TrialPool, candidate_map, evaluate_candidate
 from .intervals import INTERVAL_METHODS, fit_uncertainty
 from .optimizers import fd_jacobian, praxis, trust_region_least_squares
 from .problem import FitProblem
@@ -104,6 +105,30 @@ class FitResult:
         return "\n".join(lines)
 
 
+Residuals = Callable[[list[np.ndarray]], Iterable[np.ndarray]]
+Simulate = Callable[[np.ndarray, "SimulationOptions | None"], list[np.ndarray]]
+
+
+@contextmanager
+def _evaluator(problem: FitProblem, map_fn: MapFn | None, workers: int,
+               mp_context: str) -> Iterator[tuple[Residuals, Simulate]]:
+    """How the fit evaluates: (residuals of a list of candidates, every trial's force at one z with given
+    options).  With ``workers`` > 1 both go through a :class:`.evaluate.TrialPool` (split by candidate and
+    trial); else candidates go through ``map_fn`` (or serially) and single runs stay in this process."""
+    if map_fn is None and workers > 1:
+        with TrialPool(problem, workers, mp_context) as pool:
+            yield pool.residuals, lambda z, options: _all_ran(pool.simulate([z], options)[0])
+        return
+    with candidate_map(map_fn, workers, mp_context) as map_candidates:
+        yield partial(map_candidates, partial(evaluate_candidate, problem)), problem.simulate_trials
+
+
+def _all_ran(sims: list[np.ndarray] | None) -> list[np.ndarray]:
+    if sims is None:
+        raise NumericalError("the fitted parameters' simulation failed numerically")
+    return sims
+
+
 def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None = None, workers: int = 1,
         checkpoint: str | os.PathLike | None = None, progress: bool = True, *, resume: bool = False,
         fd: str = "central", fd_step: float = 1e-3, max_iterations: int = 100, tolerance: float = 1e-8,
@@ -113,8 +138,8 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
 
     method: "least_squares" (scipy trust-region reflective with a finite-difference Jacobian in z) or
     "praxis" (NEURON's h.fit_praxis on the cost, the seed's baseline; serial; bounds by clipping plus a
-    penalty).  map_fn(fn, iterable) evaluates candidates (any ``map``: serial by default, a process pool with
-    ``workers`` > 1).  checkpoint: JSON path written after every iteration; resume=True starts from it.
+    penalty).  map_fn(fn, iterable) evaluates candidates (any ``map``; serial by default); ``workers`` > 1
+    instead splits every evaluation by candidate and trial over a process pool (:class:`.evaluate.TrialPool`).  checkpoint: JSON path written after every iteration; resume=True starts from it.
     tolerance: scipy's ftol/xtol/gtol (least_squares) or praxis' tolerance in z.  max_iterations: iterations
     (Jacobians; praxis: rounds of 2k+2 evaluations) of this call; the best point so far is returned after it.
     fd, fd_step: finite differences (:func:`.optimizers.fd_jacobian`).  ident_rcond, max_rel_se: the
@@ -141,11 +166,10 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     lo, hi = problem.z_bounds()
     z0 = np.clip(z0, lo, hi)
     tracker = Tracker(problem, method, ckpt, progress, previous)
-    with candidate_map(map_fn, workers, mp_context) as map_candidates:
-        evaluate = partial(evaluate_candidate, problem)
+    with _evaluator(problem, map_fn, workers, mp_context) as (residuals, simulate):
 
         def run_all(zs: list[np.ndarray]) -> list[np.ndarray]:
-            rs = [np.asarray(r, dtype=float) for r in map_candidates(evaluate, zs)]
+            rs = [np.asarray(r, dtype=float) for r in residuals(zs)]
             tracker.evaluated(zs, rs)
             return rs
 
@@ -156,11 +180,11 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
             z, message = praxis(z0, lo, hi, run_all, tracker, max_iterations, tolerance)
             jr = None
         jac = jr[0] if jr is not None else fd_jacobian(z, lo, hi, run_all, fd, fd_step, None)[0]
-    sims = problem.simulate_trials(z)
-    tracker.n_sim += len(problem.trials)
-    r = problem.residuals_from(sims)
-    tracker.best_z, tracker.best_cost = z, float(r @ r)
-    unc = fit_uncertainty(problem, z, jac, sims, intervals, Rules.for_fit(ident_rcond, max_rel_se))
+        sims = simulate(z, None)
+        tracker.n_sim += len(problem.trials)
+        r = problem.residuals_from(sims)
+        tracker.best_z, tracker.best_cost = z, float(r @ r)
+        unc = fit_uncertainty(problem, z, jac, sims, intervals, Rules.for_fit(ident_rcond, max_rel_se), simulate)
     if "integrator" in intervals:  # the re-run at half the step
         tracker.n_sim += len(problem.trials)
     tracker.write(final=True)

@@ -1,11 +1,14 @@
 """Evaluation of candidates (neuromuscle.fit.evaluate): a trial's simulation; serial and parallel maps agree."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from fit_synthetic import OPTS, far_start, synthetic_trial
 
 from neuromuscle.errors import InputError
 from neuromuscle.fit import FitProblem, fit, trial_simulation
+from neuromuscle.fit.evaluate import TrialPool
 from neuromuscle.measured import Trial
 from neuromuscle.sim import simulate
 
@@ -38,6 +41,29 @@ def test_serial_and_two_workers_identical(ct09, twitch_trials):
     assert serial.estimates == parallel.estimates
     assert serial.cost == parallel.cost and serial.std_errors == parallel.std_errors
     assert [h["cost"] for h in serial.history] == [h["cost"] for h in parallel.history]
+    assert serial.n_simulations == parallel.n_simulations
+
+
+def test_trial_pool_reassembles_trials_in_order(ct09, twitch_trials):
+    """The pool runs the longest trial first; every candidate's forces come back in the problem's trial order."""
+    long = synthetic_trial(ct09, "long", [0.02, 0.05], duration_s=0.6, seed=3)
+    trials = [twitch_trials[0], long, twitch_trials[1]]
+    problem = FitProblem(trials, ct09, ["C3", "C1"], options=OPTS)
+    assert max(range(3), key=lambda k: problem.trial_costs()[k]) == 1
+    zs = [np.zeros(2), np.array([0.3, -0.2])]
+    with TrialPool(problem, 2) as pool:
+        got = pool.simulate(zs)
+        half = pool.simulate(zs[:1], replace(OPTS, dt_ms=0.05))[0]
+        res = pool.residuals(zs)
+    for z, sims, r in zip(zs, got, res):
+        want = problem.simulate_trials(z)
+        assert [s.shape for s in sims] == [w.shape for w in want]
+        for s, w in zip(sims, want):
+            np.testing.assert_array_equal(s, w)
+        np.testing.assert_array_equal(r, problem.residuals(z))
+    for s, w in zip(half, problem.simulate_trials(zs[0], replace(OPTS, dt_ms=0.05))):
+        np.testing.assert_array_equal(s, w)
+    assert not np.array_equal(got[0][1], got[1][1])  # the candidates differ
 
 
 def test_custom_map_is_used(ct09, twitch_trials):
