@@ -35,8 +35,9 @@ from ..analysis.metrics import nrmse_percent
 from ..calibration import MODULE2_FREE, StageResult, calibrate_module2, staged_calibration
 from ..calibration.staged import FORCE_LENGTH_PATH
 from ..calibration.trials import OPTIMUM_TOLERANCE_MM, isometric_length
-from ..errors import InputError
+from ..errors import InputError, NumericalError
 from ..fit import FitProblem, SimulationOptions, fit, trial_simulation
+from ..fit.evaluate import TrialPool
 from ..measured import MeasuredData, Trial
 from ..parameters import SPECS, ParameterSet
 
@@ -150,9 +151,10 @@ def _say(progress: bool, text: str) -> None:
 
 def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: ParameterSet, *, workers: int = 1,
                        options: SimulationOptions = OPTIONS, progress: bool = False,
-                       max_iterations: int = 12) -> Baseline:
+                       max_iterations: int = 12, pool: TrialPool | None = None) -> Baseline:
     """Calibrate the baseline on the ``calibration`` trials (module docstring) and simulate every trial of
-    ``data``."""
+    ``data``.  pool: a :class:`~neuromuscle.fit.evaluate.TrialPool` of ``data``'s trials for the joint refinement
+    and the simulations (the staged fits use ``workers``)."""
     kind, ids = baseline_trials(data, calibration)
     cal = _subset(data, ids)
     calibration = list(cal.trials)
@@ -186,8 +188,9 @@ def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: Par
         free = ["P0"] + (["g2"] if n_len >= 2 else []) + (["g1"] if n_len >= 3 else []) + free
     trials = [t for ts in by_length.values() for t in ts]
     _say(progress, f"baseline: joint refinement of {', '.join(free)} on {len(trials)} isometric trials")
-    res = fit(FitProblem(trials, params, free, objective="nrmse", options=options), workers=workers,
-              progress=False, max_iterations=max_iterations, fd="forward")
+    res = fit(FitProblem(trials, params, free, objective="nrmse", options=options),
+              workers=workers if pool is None else 1, pool=pool, progress=False, max_iterations=max_iterations,
+              fd="forward")
     params = params.with_values(**res.estimates)
     stages.append(StageResult("refinement", dict(res.estimates),
                               {f"nrmse_{k}": v for k, v in res.nrmse_percent.items()}, [t.trial_id for t in trials],
@@ -197,15 +200,20 @@ def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: Par
                          f"diagnosis baseline (eq 18, eqs 19-20 off) calibrated from {base.name} on "
                          f"{', '.join(calibration)}")
     _say(progress, f"baseline: simulating {len(data.trials)} trials")
-    sims = simulate_all(final, list(data.trials.values()), options)
+    sims = simulate_all(final, list(data.trials.values()), options, pool=pool)
     return Baseline(final, stages, sims, {k: nrmse_percent(data.trials[k].force, s) for k, s in sims.items()},
                     options)
 
 
 def simulate_all(params: ParameterSet, trials: Sequence[Trial], options: SimulationOptions,
-                 extensions: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
-    """Simulated force (N) of every trial, by trial id."""
+                 extensions: tuple[str, ...] = (), pool: TrialPool | None = None) -> dict[str, np.ndarray]:
+    """Simulated force (N) of every trial, by trial id (on ``pool``'s workers when given)."""
     opts = replace(options, extensions=extensions)
+    if pool is not None:
+        sims = pool.simulate([params], trials, opts)[0]
+        if sims is None:
+            raise NumericalError(f"{params.name}: a trial's simulation failed numerically")
+        return {t.trial_id: s for t, s in zip(trials, sims)}
     return {t.trial_id: trial_simulation(params, t, opts.dt_ms, record_dt_ms=opts.record_dt_ms,
                                          settle_ms=opts.settle_ms, length_compensation=opts.length_compensation,
                                          movement_compensation=opts.movement_compensation,

@@ -8,12 +8,14 @@ from __future__ import annotations
 
 import sys
 import time
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
 
-from ..measured import MeasuredData
+from ..fit.evaluate import TrialPool
+from ..measured import MeasuredData, Trial
 from ..parameters import ParameterSet, load_parameters
 from .baseline import Baseline, calibrate_baseline, check_split_sizes, check_trials
 from .candidates import Candidate, rank_candidates
@@ -76,7 +78,16 @@ def diagnose_data(data: MeasuredData, *, heldout: Sequence[str] | None = None, b
     split = prepare(data, heldout)
     _say(progress, f"split ({split.method}): {len(split.calibration)} calibration, {len(split.heldout)} held-out")
     base = base or load_parameters("CT09")
-    baseline = calibrate_baseline(data, split.calibration, base, workers=workers, progress=progress)
+    trials = list(data.trials.values())
+    with TrialPool(trials, workers) if workers > 1 else nullcontext() as pool:
+        return _diagnose(data, split, base, trials, workers, pool, max_fits, progress, t0)
+
+
+def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list[Trial], workers: int,
+              pool: TrialPool | None, max_fits: int, progress: bool, t0: float) -> Diagnosis:
+    """Steps 1-5 after the split, every fit and simulation on ``pool`` when given (one set of worker processes
+    for the whole diagnosis)."""
+    baseline = calibrate_baseline(data, split.calibration, base, workers=workers, progress=progress, pool=pool)
     measured = {i: np.asarray(t.force, dtype=float) for i, t in data.trials.items()}
     resid = {i: baseline.simulated[i] - measured[i] for i in data.trials}
     noise = {i: noise_level(r) for i, r in resid.items()}
@@ -90,13 +101,12 @@ def diagnose_data(data: MeasuredData, *, heldout: Sequence[str] | None = None, b
     to_fit = [c.cause.name for c in candidates if c.untestable is None and c.cause.name in catalogue][:max_fits]
     fits: dict[str, ExtensionFit] = {}
     evidence: dict[str, Evidence] = {}
-    trials = list(data.trials.values())
     cal = [data.trials[i] for i in split.calibration]
     _say(progress, "reference: Module 2 refitted on every calibration trial (what each candidate is judged against)")
-    reference = fit_reference(baseline.parameters, cal, trials, baseline.options, workers=workers)
+    reference = fit_reference(baseline.parameters, cal, trials, baseline.options, pool=pool)
     for k, name in enumerate(to_fit, 1):
         _say(progress, f"candidate {k}/{len(to_fit)}: fitting extension {name!r} on the calibration trials")
-        fits[name] = f = fit_extension(name, reference.parameters, cal, trials, baseline.options, workers=workers)
+        fits[name] = f = fit_extension(name, reference.parameters, cal, trials, baseline.options, pool=pool)
         evidence[name] = judge(split.heldout, measured, reference.simulated, f.simulated, noise, f.n_parameters,
                                f.away_from_neutral())
         _say(progress, f"  {name}: {evidence[name].text()}")

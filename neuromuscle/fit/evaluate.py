@@ -8,11 +8,12 @@
 * **Map.**  All candidates of one Jacobian are evaluated by one call of the map in a fixed order, so serial and
   parallel fits are identical: every candidate is a pure function of its parameter vector (fixed-step
   integration; each simulation builds and tears down its unit).
-* **Trial pool** (:class:`TrialPool`, ``fit(..., workers=N)``).  The work is split by (candidate, trial), not
-  by candidate, longest trials first: a single candidate (a trust-region step, the final run, the half-step
-  re-run of the intervals) then uses every worker too, and a Jacobian's candidates need not be a multiple of
-  the workers.  The problem is sent to each worker once, when the pool starts.  The forces are the same
-  simulations as in one process, so the fit is identical.
+* **Trial pool** (:class:`TrialPool`, ``fit(..., workers=N)`` or ``fit(..., pool=)``).  The work is split by
+  (candidate, trial), not by candidate, longest trials first: a single candidate (a trust-region step, the
+  final run, the half-step re-run of the intervals) then uses every worker too, and a Jacobian's candidates
+  need not be a multiple of the workers.  The trials are sent to each worker once, when the pool starts; a
+  task carries a parameter set and a trial index.  The forces are the same simulations as in one process, so
+  the fit is identical.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from __future__ import annotations
 import concurrent.futures
 import multiprocessing
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, Sequence
 
 import numpy as np
@@ -107,37 +108,39 @@ def evaluate_candidate(problem: FitProblem, z: np.ndarray) -> np.ndarray:
         return np.full(problem.n_residuals, np.nan)
 
 
-_WORKER_PROBLEM: "FitProblem | None" = None
+_WORKER_TRIALS: list[Trial] = []
 
 
-def _install_problem(problem: FitProblem) -> None:
-    """Pool initializer: the problem every task of this worker simulates."""
-    global _WORKER_PROBLEM
-    _WORKER_PROBLEM = problem
+def _install_trials(trials: list[Trial]) -> None:
+    """Pool initializer: the trials every task of this worker simulates."""
+    global _WORKER_TRIALS
+    _WORKER_TRIALS = trials
 
 
-def _simulate_task(task: tuple[np.ndarray, int, SimulationOptions | None]) -> np.ndarray | None:
-    """One (candidate z, trial index, options) of the worker's problem: the force (N), None when the run fails
-    numerically."""
-    z, k, options = task
-    assert _WORKER_PROBLEM is not None
+def _simulate_task(task: tuple[ParameterSet, int, SimulationOptions]) -> np.ndarray | None:
+    """One (parameter set, trial index, options) run: the force (N), None when the run fails numerically."""
+    params, k, options = task
     try:
-        return _WORKER_PROBLEM.simulate_trial(z, k, options)
+        return trial_simulation(params, _WORKER_TRIALS[k], **asdict(options))
     except NumericalError:
         return None
 
 
 class TrialPool:
-    """``workers`` processes that simulate (candidate, trial) pairs of one :class:`FitProblem` (module
-    docstring); a context manager: the processes stop on exit."""
+    """``workers`` processes that simulate (parameter set, trial) pairs of a fixed list of trials (module
+    docstring: the trials are sent to each worker once, when the pool starts; the longest runs go first).  A
+    context manager: the processes stop on exit.  One pool can serve several fits (``fit(..., pool=)``) and
+    simulations of the same trials."""
 
-    def __init__(self, problem: FitProblem, workers: int, mp_context: str = "spawn") -> None:
-        self.problem = problem
-        costs = problem.trial_costs()
-        self._order = sorted(range(len(costs)), key=lambda k: -costs[k])  # longest first
+    def __init__(self, trials: Sequence[Trial], workers: int, mp_context: str = "spawn") -> None:
+        if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+            raise InputError(f"workers must be an integer >= 1, got {workers!r}")
+        self.trials = list(trials)
+        self._index = {id(t): k for k, t in enumerate(self.trials)}
+        self._span_s = [float(t.time_s[-1] - t.time_s[0]) for t in self.trials]
         self._pool = concurrent.futures.ProcessPoolExecutor(
-            workers, mp_context=multiprocessing.get_context(mp_context), initializer=_install_problem,
-            initargs=(problem,))
+            workers, mp_context=multiprocessing.get_context(mp_context), initializer=_install_trials,
+            initargs=(self.trials,))
 
     def __enter__(self) -> TrialPool:
         return self
@@ -145,20 +148,30 @@ class TrialPool:
     def __exit__(self, *exc: object) -> None:
         self._pool.shutdown(cancel_futures=True)
 
-    def simulate(self, zs: Sequence[np.ndarray],
-                 options: SimulationOptions | None = None) -> list[list[np.ndarray] | None]:
-        """Every trial's force (N, in trial order) for each candidate of ``zs`` (None for a candidate whose run
-        failed numerically)."""
-        tasks = [(c, k) for k in self._order for c in range(len(zs))]
-        out: list[list[Any]] = [[None] * len(self.problem.trials) for _ in zs]
-        for (c, k), f in zip(tasks, self._pool.map(_simulate_task, [(zs[c], k, options) for c, k in tasks])):
-            out[c][k] = f
+    def indices(self, trials: Sequence[Trial]) -> list[int]:
+        """Where each of ``trials`` (the same objects) is in the pool; InputError for a trial it does not hold."""
+        missing = [t.trial_id for t in trials if id(t) not in self._index]
+        if missing:
+            raise InputError(f"trial(s) {missing} are not in this pool (give the pool the same Trial objects)")
+        return [self._index[id(t)] for t in trials]
+
+    def simulate(self, params: Sequence[ParameterSet], trials: Sequence[Trial],
+                 options: SimulationOptions) -> list[list[np.ndarray] | None]:
+        """The force (N) of every one of ``trials`` (in their order) under each parameter set of ``params``
+        (None for a set whose run of some trial failed numerically)."""
+        idx = self.indices(trials)
+        order = sorted(range(len(idx)), key=lambda j: -self._span_s[idx[j]])
+        tasks = [(c, j) for j in order for c in range(len(params))]
+        out: list[list[Any]] = [[None] * len(idx) for _ in params]
+        for (c, j), f in zip(tasks, self._pool.map(_simulate_task, [(params[c], idx[j], options)
+                                                                    for c, j in tasks])):
+            out[c][j] = f
         return [None if any(f is None for f in sims) else sims for sims in out]
 
-    def residuals(self, zs: Sequence[np.ndarray]) -> list[np.ndarray]:
-        """The residual vectors of ``zs`` (NaN for a candidate whose run failed numerically)."""
-        return [np.full(self.problem.n_residuals, np.nan) if sims is None else self.problem.residuals_from(sims)
-                for sims in self.simulate(zs)]
+    def residuals(self, problem: FitProblem, zs: Sequence[np.ndarray]) -> list[np.ndarray]:
+        """``problem``'s residual vectors at ``zs`` (NaN for a candidate whose run failed numerically)."""
+        sims = self.simulate([problem.parameters(z) for z in zs], problem.trials, problem.options)
+        return [np.full(problem.n_residuals, np.nan) if s is None else problem.residuals_from(s) for s in sims]
 
 
 def serial_map(fn: Callable, items: Iterable) -> list:

@@ -137,16 +137,6 @@ class FitProblem:
         opts = asdict(self.options if options is None else options)
         return [trial_simulation(params, t, **opts) for t in self.trials]
 
-    def simulate_trial(self, z: Sequence[float], k: int, options: SimulationOptions | None = None) -> np.ndarray:
-        """Simulated force (N) of trial ``k`` (index into ``trials``) at search vector z."""
-        opts = asdict(self.options if options is None else options)
-        return trial_simulation(self.parameters(z), self.trials[k], **opts)
-
-    def trial_costs(self) -> list[float]:
-        """Each trial's simulated duration (s, settling included): what its simulation costs, for scheduling."""
-        settle_s = self.options.settle_ms / 1000.0
-        return [float(t.time_s[-1] - t.time_s[0]) + settle_s for t in self.trials]
-
     @property
     def segments(self) -> list[int]:
         """Lengths of the independent pieces of the residual vector: the trials' sample counts."""

@@ -110,14 +110,25 @@ Simulate = Callable[[np.ndarray, "SimulationOptions | None"], list[np.ndarray]]
 
 
 @contextmanager
-def _evaluator(problem: FitProblem, map_fn: MapFn | None, workers: int,
-               mp_context: str) -> Iterator[tuple[Residuals, Simulate]]:
+def _evaluator(problem: FitProblem, map_fn: MapFn | None, workers: int, mp_context: str,
+               pool: TrialPool | None) -> Iterator[tuple[Residuals, Simulate]]:
     """How the fit evaluates: (residuals of a list of candidates, every trial's force at one z with given
-    options).  With ``workers`` > 1 both go through a :class:`.evaluate.TrialPool` (split by candidate and
-    trial); else candidates go through ``map_fn`` (or serially) and single runs stay in this process."""
-    if map_fn is None and workers > 1:
-        with TrialPool(problem, workers, mp_context) as pool:
-            yield pool.residuals, lambda z, options: _all_ran(pool.simulate([z], options)[0])
+    options).  With ``pool``, or ``workers`` > 1 (a pool of this fit's own), both go through a
+    :class:`.evaluate.TrialPool` (split by candidate and trial); else candidates go through ``map_fn`` (or
+    serially) and single runs stay in this process."""
+    if pool is None and map_fn is None and workers > 1:
+        with TrialPool(problem.trials, workers, mp_context) as own:
+            with _evaluator(problem, None, 1, mp_context, own) as ev:
+                yield ev
+        return
+    if pool is not None:
+        pool.indices(problem.trials)  # refuse a pool without these trials before any work
+
+        def simulate(z: np.ndarray, options: SimulationOptions | None) -> list[np.ndarray]:
+            return _all_ran(pool.simulate([problem.parameters(z)], problem.trials,
+                                          problem.options if options is None else options)[0])
+
+        yield partial(pool.residuals, problem), simulate
         return
     with candidate_map(map_fn, workers, mp_context) as map_candidates:
         yield partial(map_candidates, partial(evaluate_candidate, problem)), problem.simulate_trials
@@ -133,13 +144,15 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
         checkpoint: str | os.PathLike | None = None, progress: bool = True, *, resume: bool = False,
         fd: str = "central", fd_step: float = 1e-3, max_iterations: int = 100, tolerance: float = 1e-8,
         ident_rcond: float = 1e-3, max_rel_se: float = 0.5, mp_context: str = "spawn",
-        intervals: str = INTERVAL_METHODS[0]) -> FitResult:
+        intervals: str = INTERVAL_METHODS[0], pool: TrialPool | None = None) -> FitResult:
     """Fit ``problem``'s free parameters (search space: :mod:`.transforms`; statistics: :mod:`.uncertainty`).
 
     method: "least_squares" (scipy trust-region reflective with a finite-difference Jacobian in z) or
     "praxis" (NEURON's h.fit_praxis on the cost, the seed's baseline; serial; bounds by clipping plus a
     penalty).  map_fn(fn, iterable) evaluates candidates (any ``map``; serial by default); ``workers`` > 1
-    instead splits every evaluation by candidate and trial over a process pool (:class:`.evaluate.TrialPool`).  checkpoint: JSON path written after every iteration; resume=True starts from it.
+    instead splits every evaluation by candidate and trial over a process pool (:class:`.evaluate.TrialPool`),
+    and ``pool`` (a TrialPool holding the problem's trials) does the same on a pool the caller keeps.
+    checkpoint: JSON path written after every iteration; resume=True starts from it.
     tolerance: scipy's ftol/xtol/gtol (least_squares) or praxis' tolerance in z.  max_iterations: iterations
     (Jacobians; praxis: rounds of 2k+2 evaluations) of this call; the best point so far is returned after it.
     fd, fd_step: finite differences (:func:`.optimizers.fd_jacobian`).  ident_rcond, max_rel_se: the
@@ -156,8 +169,8 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
         raise InputError(f"fd must be 'central' or 'forward', got {fd!r}")
     if not (isinstance(workers, int) and workers >= 1):
         raise InputError(f"workers must be an integer >= 1, got {workers!r}")
-    if map_fn is not None and workers > 1:
-        raise InputError("give either map_fn or workers > 1, not both")
+    if sum((map_fn is not None, workers > 1, pool is not None)) > 1:
+        raise InputError("give one of map_fn, workers > 1 and pool, not several")
     ckpt = Path(checkpoint) if checkpoint is not None else None
     if resume and ckpt is None:
         raise InputError("resume=True needs the checkpoint path")
@@ -166,7 +179,7 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     lo, hi = problem.z_bounds()
     z0 = np.clip(z0, lo, hi)
     tracker = Tracker(problem, method, ckpt, progress, previous)
-    with _evaluator(problem, map_fn, workers, mp_context) as (residuals, simulate):
+    with _evaluator(problem, map_fn, workers, mp_context, pool) as (residuals, simulate):
 
         def run_all(zs: list[np.ndarray]) -> list[np.ndarray]:
             rs = [np.asarray(r, dtype=float) for r in residuals(zs)]

@@ -45,16 +45,17 @@ def test_serial_and_two_workers_identical(ct09, twitch_trials):
 
 
 def test_trial_pool_reassembles_trials_in_order(ct09, twitch_trials):
-    """The pool runs the longest trial first; every candidate's forces come back in the problem's trial order."""
+    """The pool runs the longest trial first; every parameter set's forces come back in the given trial order."""
     long = synthetic_trial(ct09, "long", [0.02, 0.05], duration_s=0.6, seed=3)
     trials = [twitch_trials[0], long, twitch_trials[1]]
     problem = FitProblem(trials, ct09, ["C3", "C1"], options=OPTS)
-    assert max(range(3), key=lambda k: problem.trial_costs()[k]) == 1
     zs = [np.zeros(2), np.array([0.3, -0.2])]
-    with TrialPool(problem, 2) as pool:
-        got = pool.simulate(zs)
-        half = pool.simulate(zs[:1], replace(OPTS, dt_ms=0.05))[0]
-        res = pool.residuals(zs)
+    with TrialPool([twitch_trials[1], *trials], 2) as pool:
+        got = pool.simulate([problem.parameters(z) for z in zs], trials, OPTS)
+        half = pool.simulate([problem.parameters(zs[0])], trials, replace(OPTS, dt_ms=0.05))[0]
+        res = pool.residuals(problem, zs)
+        with pytest.raises(InputError, match="not in this pool"):
+            pool.simulate([ct09], [synthetic_trial(ct09, "other", [0.02])], OPTS)
     for z, sims, r in zip(zs, got, res):
         want = problem.simulate_trials(z)
         assert [s.shape for s in sims] == [w.shape for w in want]
@@ -64,6 +65,20 @@ def test_trial_pool_reassembles_trials_in_order(ct09, twitch_trials):
     for s, w in zip(half, problem.simulate_trials(zs[0], replace(OPTS, dt_ms=0.05))):
         np.testing.assert_array_equal(s, w)
     assert not np.array_equal(got[0][1], got[1][1])  # the candidates differ
+
+
+def test_fits_share_a_pool(ct09, twitch_trials):
+    """Two fits on one caller's pool give the fit of one process; a pool and workers > 1 are refused together."""
+    problem = FitProblem(twitch_trials, ct09, ["C3", "C1"], start=far_start(ct09), options=OPTS)
+    serial = fit(problem, progress=False, max_iterations=2)
+    with TrialPool(twitch_trials, 2) as pool:
+        a = fit(problem, progress=False, max_iterations=2, pool=pool)
+        b = fit(FitProblem(twitch_trials[:1], ct09, ["C3"], options=OPTS), progress=False, max_iterations=1,
+                pool=pool)
+        with pytest.raises(InputError, match="not several"):
+            fit(problem, progress=False, max_iterations=1, pool=pool, workers=2)
+    assert a.estimates == serial.estimates and a.std_errors == serial.std_errors
+    assert b.n_iterations == 1
 
 
 def test_custom_map_is_used(ct09, twitch_trials):
