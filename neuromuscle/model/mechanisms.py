@@ -57,15 +57,24 @@ def mod_files() -> list[Path]:
     return sorted([*mod_dir().glob("*.mod"), *mod_dir().glob("*.inc")])
 
 
+_HASHES: dict[tuple[tuple[str, int, int], ...], str] = {}
+
+
 def mechanism_hash() -> str:
-    """SHA-256 over the names and contents of all mod and include files: identifies the compiled mechanisms."""
-    h = hashlib.sha256()
-    for f in mod_files():
-        h.update(f.name.encode())
-        h.update(b"\0")
-        h.update(f.read_bytes())
-        h.update(b"\0")
-    return h.hexdigest()
+    """SHA-256 over the names and contents of all mod and include files: identifies the compiled mechanisms.
+    The files are read again only when one's name, size or modification time changed (every simulation's
+    provenance asks)."""
+    files = mod_files()
+    key = tuple((f.name, st.st_size, st.st_mtime_ns) for f in files for st in (f.stat(),))
+    if key not in _HASHES:
+        h = hashlib.sha256()
+        for f in files:
+            h.update(f.name.encode())
+            h.update(b"\0")
+            h.update(f.read_bytes())
+            h.update(b"\0")
+        _HASHES[key] = h.hexdigest()
+    return _HASHES[key]
 
 
 def cache_root() -> Path:

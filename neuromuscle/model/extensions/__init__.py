@@ -16,6 +16,7 @@ it changes nothing but the parameters given: the equation is applied once, never
 
 from __future__ import annotations
 
+import functools
 import importlib
 import pkgutil
 from dataclasses import replace
@@ -74,7 +75,13 @@ class SwitchExtension(Extension):
 
 
 def registry() -> dict[str, type[Extension]]:
-    """Every extension in this folder by canonical name (imported on first call, not at package import)."""
+    """Every extension in this folder by canonical name (imported on first call, not at package import; the
+    folder is scanned once per process, since every simulation asks)."""
+    return dict(_registry())
+
+
+@functools.lru_cache(maxsize=1)
+def _registry() -> dict[str, type[Extension]]:
     found: dict[str, type[Extension]] = {}
     for info in pkgutil.iter_modules(__path__):
         module = importlib.import_module(f"{__name__}.{info.name}")
