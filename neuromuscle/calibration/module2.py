@@ -13,6 +13,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..fit import FitProblem, SimulationOptions, fit
+from ..fit.evaluate import TrialPool
 from ..measured import MeasuredData, Trial
 from ..parameters import ParameterSet
 from .stage import StageResult
@@ -35,11 +36,12 @@ def module2_trials(data: MeasuredData | Sequence[Trial], g1: float,
 def calibrate_module2(data: MeasuredData, base_params: ParameterSet, trials: Sequence[str] | None = None, *,
                       free: Sequence[str] = MODULE2_FREE, options: SimulationOptions | None = None,
                       objective: str = "nrmse", workers: int = 1, max_iterations: int = 30,
-                      progress: bool = False) -> StageResult:
+                      progress: bool = False, pool: TrialPool | None = None) -> StageResult:
     """Fit a Module 2 subset (default C1, C2, C3, alpha) to twitches and sub-tetanic trains at the optimum.
 
     trials: ids to use (default: every isometric stimulated trial within 0.5 mm of g1).  Flags of
-    unidentifiable parameters (the fit's identifiability rules) are reported in ``notes``."""
+    unidentifiable parameters (the fit's identifiability rules) are reported in ``notes``.  pool: a
+    :class:`~neuromuscle.fit.evaluate.TrialPool` holding ``data``'s trials, instead of ``workers`` processes."""
     chosen = select_trials(data, trials)
     if chosen is None:
         chosen = module2_trials(data, base_params["g1"])
@@ -48,7 +50,8 @@ def calibrate_module2(data: MeasuredData, base_params: ParameterSet, trials: Seq
                          f"{base_params['g1']:g} mm")
     opts = options or SimulationOptions(dt_ms=0.05, settle_ms=300.0)
     problem = FitProblem(chosen, base_params, list(free), objective=objective, options=opts)
-    res = fit(problem, workers=workers, progress=progress, max_iterations=max_iterations)
+    res = fit(problem, workers=workers if pool is None else 1, pool=pool, progress=progress,
+              max_iterations=max_iterations)
     errors: dict[str, float] = {f"nrmse_{k}": v for k, v in res.nrmse_percent.items()}
     errors.update({f"se_{k}": v for k, v in res.std_errors.items()})
     notes = [f"{n} NOT IDENTIFIABLE: {why}" for n, why in res.flags.items()]

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..fit import SimulationOptions
+from ..fit.evaluate import TrialPool
 from ..measured import MeasuredData
 from ..parameters import ParameterSet
 from .length_compensation import calibrate_length_compensation, twitch_trials
@@ -66,10 +67,11 @@ def _points_from(data: MeasuredData, path: str) -> np.ndarray | None:
 def staged_calibration(data: MeasuredData, base_params: ParameterSet, *, module2_free: Sequence[str] = MODULE2_FREE,
                        options: SimulationOptions | None = None, workers: int = 1, max_iterations: int = 30,
                        progress: bool = False, name: str | None = None,
-                       length_compensation: bool = True) -> StagedCalibration:
+                       length_compensation: bool = True, pool: TrialPool | None = None) -> StagedCalibration:
     """Module 3 (force-length, force-velocity, KSE) -> Module 2 -> length compensation, on whatever ``data``
     holds; a stage without its data is skipped with the reason (the base values stay).  length_compensation=False
-    skips the eq 18 stage (a model without eq 18, e.g. the diagnosis baseline)."""
+    skips the eq 18 stage (a model without eq 18, e.g. the diagnosis baseline).  pool: a TrialPool holding
+    ``data``'s trials for the Module 2 stage, instead of ``workers`` processes."""
     params = base_params
     stages: list[StageResult] = []
     fl = _points_from(data, FORCE_LENGTH_PATH)
@@ -102,7 +104,7 @@ def staged_calibration(data: MeasuredData, base_params: ParameterSet, *, module2
         stages.append(StageResult("module2", skipped=f"no isometric stimulated trial at g1 = {params['g1']:g} mm"))
     else:
         r = calibrate_module2(data, params, [t.trial_id for t in m2], free=module2_free, options=options,
-                              workers=workers, max_iterations=max_iterations, progress=progress)
+                              workers=workers, max_iterations=max_iterations, progress=progress, pool=pool)
         params = params.with_values(**r.values)
         stages.append(r)
     tw = twitch_trials(data)

@@ -153,8 +153,8 @@ def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: Par
                        options: SimulationOptions = OPTIONS, progress: bool = False,
                        max_iterations: int = 12, pool: TrialPool | None = None) -> Baseline:
     """Calibrate the baseline on the ``calibration`` trials (module docstring) and simulate every trial of
-    ``data``.  pool: a :class:`~neuromuscle.fit.evaluate.TrialPool` of ``data``'s trials for the joint refinement
-    and the simulations (the staged fits use ``workers``)."""
+    ``data``.  pool: a :class:`~neuromuscle.fit.evaluate.TrialPool` of ``data``'s trials for every fit and
+    simulation, instead of ``workers`` processes per fit."""
     kind, ids = baseline_trials(data, calibration)
     cal = _subset(data, ids)
     calibration = list(cal.trials)
@@ -162,7 +162,8 @@ def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: Par
     if kind == "seed":
         _say(progress, f"baseline: staged calibration on {len(calibration)} trials")
         staged = staged_calibration(cal, base, options=options, workers=workers, max_iterations=max_iterations,
-                                    progress=False, name=f"{base.name}-baseline", length_compensation=False)
+                                    progress=False, name=f"{base.name}-baseline", length_compensation=False,
+                                    pool=pool)
         params, stages = staged.parameters, list(staged.stages)
     else:
         params = base
@@ -174,7 +175,8 @@ def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: Par
         x_ref = max(by_length, key=lambda x: (len(by_length[x]), -abs(x - params["g1"])))
         ids = [t.trial_id for t in by_length[x_ref]]
         _say(progress, f"baseline: Module 2 at {x_ref:g} mm (no trial at g1 = {params['g1']:g} mm)")
-        r = calibrate_module2(cal, params, ids, options=options, workers=workers, max_iterations=max_iterations)
+        r = calibrate_module2(cal, params, ids, options=options, workers=workers, max_iterations=max_iterations,
+                              pool=pool)
         r.notes.append(f"no trial at g1: the isometric length with most trials ({x_ref:g} mm) stands for it")
         stages[stages.index(m2)] = r
         params = params.with_values(**r.values)

@@ -22,7 +22,7 @@ import concurrent.futures
 import multiprocessing
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass
-from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, MutableMapping, Sequence
 
 import numpy as np
 
@@ -168,9 +168,13 @@ class TrialPool:
             out[c][j] = f
         return [None if any(f is None for f in sims) else sims for sims in out]
 
-    def residuals(self, problem: FitProblem, zs: Sequence[np.ndarray]) -> list[np.ndarray]:
-        """``problem``'s residual vectors at ``zs`` (NaN for a candidate whose run failed numerically)."""
+    def residuals(self, problem: FitProblem, zs: Sequence[np.ndarray],
+                  keep: MutableMapping[bytes, list[np.ndarray]] | None = None) -> list[np.ndarray]:
+        """``problem``'s residual vectors at ``zs`` (NaN for a candidate whose run failed numerically).
+        keep: where each candidate's forces (N) are stored under ``z.tobytes()`` (z as float64)."""
         sims = self.simulate([problem.parameters(z) for z in zs], problem.trials, problem.options)
+        if keep is not None:
+            keep.update((np.asarray(z, dtype=float).tobytes(), s) for z, s in zip(zs, sims) if s is not None)
         return [np.full(problem.n_residuals, np.nan) if s is None else problem.residuals_from(s) for s in sims]
 
 

@@ -8,8 +8,9 @@ import os
 import time
 from dataclasses import dataclass, field
 from functools import partial
-from pathlib import Path
+from collections import OrderedDict
 from contextlib import contextmanager
+from pathlib import Path
 from typing import Any, Callable, Iterable, Iterator
 
 import numpy as np
@@ -31,7 +32,9 @@ METHODS = ("least_squares", "praxis")
 class FitResult:
     """Outcome of :func:`fit`: the fitted ParameterSet, the :class:`Uncertainty` of the free parameters
     (estimates, SE and intervals in the units of ``SPECS``), cost (sum of squared residuals, see
-    :mod:`.objectives`), ``nrmse_percent`` and the simulated force (N) per trial id, counters and history;
+    :mod:`.objectives`), ``nrmse_percent`` and the simulated force (N) per trial id, counters and history
+(``n_simulations`` counts the trial runs the fit needed, also one a pool-backed fit took from a candidate it had
+just run);
     ``z`` and ``jacobian``: the search vector of the estimate and dr/dz there (other interval methods:
     :func:`.intervals.fit_uncertainty`)."""
 
@@ -105,6 +108,8 @@ class FitResult:
         return "\n".join(lines)
 
 
+#: Candidates whose forces a pool-backed fit keeps (the estimate is usually among them).
+_RECENT = 16
 Residuals = Callable[[list[np.ndarray]], Iterable[np.ndarray]]
 Simulate = Callable[[np.ndarray, "SimulationOptions | None"], list[np.ndarray]]
 
@@ -123,12 +128,21 @@ def _evaluator(problem: FitProblem, map_fn: MapFn | None, workers: int, mp_conte
         return
     if pool is not None:
         pool.indices(problem.trials)  # refuse a pool without these trials before any work
+        recent: OrderedDict[bytes, list[np.ndarray]] = OrderedDict()  # the forces of the last candidates
+
+        def residuals(zs: list[np.ndarray]) -> list[np.ndarray]:
+            out = pool.residuals(problem, zs, keep=recent)
+            while len(recent) > _RECENT:
+                recent.popitem(last=False)
+            return out
 
         def simulate(z: np.ndarray, options: SimulationOptions | None) -> list[np.ndarray]:
+            if options is None and (key := np.asarray(z, dtype=float).tobytes()) in recent:
+                return recent[key]  # the estimate is usually a candidate just evaluated: not run again
             return _all_ran(pool.simulate([problem.parameters(z)], problem.trials,
                                           problem.options if options is None else options)[0])
 
-        yield partial(pool.residuals, problem), simulate
+        yield residuals, simulate
         return
     with candidate_map(map_fn, workers, mp_context) as map_candidates:
         yield partial(map_candidates, partial(evaluate_candidate, problem)), problem.simulate_trials
