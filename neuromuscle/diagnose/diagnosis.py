@@ -22,7 +22,7 @@ from .candidates import Candidate, rank_candidates
 from .extension_fit import ExtensionFit, available, fit_extension, fit_reference
 from .residuals import Noise, Structure, explanatory_variables, noise_level, residual_structure, rest_trend_z
 from .split import Split, automatic_split, given_split
-from .verdict import ACTIVE_STRUCTURE_RATIO, Evidence, is_unexplained, judge, rest_structured, structured_trials
+from .verdict import ACTIVE_STRUCTURE_RATIO, Evidence, is_unexplained, judge, rest_left, structured_trials
 
 #: Testable candidates with an extension in the catalogue whose extension is fitted, best ranked first.
 MAX_FITS = 4
@@ -109,6 +109,10 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
         fits[name] = f = fit_extension(name, reference.parameters, cal, trials, baseline.options, pool=pool)
         evidence[name] = judge(split.heldout, measured, reference.simulated, f.simulated, noise, f.n_parameters,
                                f.away_from_neutral())
+        left = rest_left({i: rest_trend_z(t, f.simulated[i] - measured[i], f.simulated[i], noise[i])
+                          for i, t in data.trials.items()})
+        if left:
+            evidence[name].failed.append(left)
         _say(progress, f"  {name}: {evidence[name].text()}")
     passing = [n for n in to_fit if evidence[n].passed]
     if passing:
@@ -118,10 +122,8 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
     after = residual_structure(data.trials, {i: final[i] - measured[i] for i in structured}, variables)
     rest = {i: rest_trend_z(t, final[i] - measured[i], final[i], noise[i]) for i, t in data.trials.items()}
     if not passing:
-        at_rest, n_rest = rest_structured(rest)
         active = structured_trials(measured, final, noise, ACTIVE_STRUCTURE_RATIO)
-        verdict = ("unexplained" if (n_rest and is_unexplained(at_rest, n_rest))
-                   or is_unexplained(active, len(data.trials)) else "none")
+        verdict = "unexplained" if rest_left(rest) or is_unexplained(active, len(data.trials)) else "none"
     _say(progress, f"verdict: {verdict}")
     return Diagnosis(data, split, baseline, noise, structure, candidates, fits, evidence, verdict, structured, after,
                      reference, rest, time.perf_counter() - t0, variables)

@@ -7,7 +7,7 @@ from conftest import ar1
 from diagnose_datasets import make_data
 from neuromuscle.diagnose.residuals import noise_level, rest_mask, rest_trend_z
 from neuromuscle.diagnose.split import automatic_split, given_split
-from neuromuscle.diagnose.verdict import is_unexplained, judge, rest_structured
+from neuromuscle.diagnose.verdict import is_unexplained, judge, rest_left, rest_structured
 from neuromuscle.measured import Trial
 from neuromuscle.errors import InputError
 
@@ -98,6 +98,18 @@ def test_rest_trend_needs_an_isometric_trial_with_rest():
     trial, sim = _twitch_trial(np.random.default_rng(0), lambda t: 0.0 * t, moving=True)
     assert rest_trend_z(trial, sim - trial.force, sim, noise_level(trial.force - sim)) is None
     assert rest_structured({"a": None, "b": -3.5, "c": 2.9}) == (["b"], 2)
+
+
+def test_a_model_that_leaves_trends_at_rest_cannot_be_named():
+    """rest_left: enough trials (max(3, 20 %) of those with a rest window) trending at rest fail a candidate."""
+    quiet = {f"t{k}": 0.5 * (-1) ** k for k in range(12)} | {"moving": None}
+    assert rest_left(quiet) is None
+    two = quiet | {"t0": 4.0, "t1": -3.2}
+    assert rest_left(two) is None
+    three = two | {"t2": 3.1}
+    why = rest_left(three)
+    assert why is not None and "3 of 12 trials" in why and "t0, t1, t2" in why and "moving" not in why
+    assert rest_left({f"t{k}": 5.0 for k in range(3)} | {f"u{k}": 0.0 for k in range(13)}) is None  # 3 < 20 % of 16
 
 
 def test_automatic_split_puts_each_protocol_on_both_sides():
