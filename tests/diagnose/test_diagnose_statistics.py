@@ -54,6 +54,19 @@ def test_rule_refuses_a_small_change_of_a_calibration_misfit():
     assert not ev.passed and any("above noise" in f for f in ev.failed), ev.text()
 
 
+def test_rule_needs_a_reference_misfit():
+    """A reference at its noise floor on every held-out trial leaves nothing to explain, however much a candidate
+    'gains' (here it takes up a misfit smaller than the noise); one structured held-out trial is enough."""
+    rng = np.random.default_rng(4)
+    ids, meas, before, _, noise = _case(rng, 0.03, 0.0, 0.0)
+    after = {k: b - (0.03 * np.sin(np.linspace(0, 9, 1000)) if k == 0 else 0.0) for k, b in before.items()}
+    ev = judge(ids, meas, before, after, noise, 2, ["x.k"])
+    assert any(f.startswith("nothing to explain") for f in ev.failed), ev.text()
+    ids, meas, before, after, noise = _case(np.random.default_rng(1), 0.0, 0.3, 0.8)
+    ev = judge(ids, meas, {**before, 1: meas[1], 2: meas[2], 3: meas[3]}, after, noise, 2, ["x.k"])
+    assert not any(f.startswith("nothing to explain") for f in ev.failed), ev.text()
+
+
 def test_rule_refuses_an_unidentified_extension():
     ids, meas, before, after, noise = _case(np.random.default_rng(3), 0.0, 0.3, 0.8)
     assert not judge(ids, meas, before, after, noise, 2, []).passed
