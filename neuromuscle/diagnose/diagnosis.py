@@ -101,6 +101,12 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
     to_fit = [c.cause.name for c in candidates if c.untestable is None and c.cause.name in catalogue][:max_fits]
     fits: dict[str, ExtensionFit] = {}
     evidence: dict[str, Evidence] = {}
+    rests: dict[str, dict[str, float | None]] = {}  # each model's rest trend z by trial (rest_trend_z)
+
+    def rest_of(simulated: dict[str, np.ndarray]) -> dict[str, float | None]:
+        return {i: rest_trend_z(t, simulated[i] - measured[i], simulated[i], noise[i])
+                for i, t in data.trials.items()}
+
     cal = [data.trials[i] for i in split.calibration]
     _say(progress, "reference: Module 2 refitted on every calibration trial (what each candidate is judged against)")
     reference = fit_reference(baseline.parameters, cal, trials, baseline.options, pool=pool)
@@ -109,8 +115,8 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
         fits[name] = f = fit_extension(name, reference.parameters, cal, trials, baseline.options, pool=pool)
         evidence[name] = judge(split.heldout, measured, reference.simulated, f.simulated, noise, f.n_parameters,
                                f.away_from_neutral())
-        left = rest_left({i: rest_trend_z(t, f.simulated[i] - measured[i], f.simulated[i], noise[i])
-                          for i, t in data.trials.items()})
+        rests[name] = rest_of(f.simulated)
+        left = rest_left(rests[name])
         if left:
             evidence[name].failed.append(left)
         _say(progress, f"  {name}: {evidence[name].text()}")
@@ -120,7 +126,7 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
     final = fits[verdict].simulated if passing else reference.simulated
     structured = structured_trials(measured, final, noise)
     after = residual_structure(data.trials, {i: final[i] - measured[i] for i in structured}, variables)
-    rest = {i: rest_trend_z(t, final[i] - measured[i], final[i], noise[i]) for i, t in data.trials.items()}
+    rest = rests[verdict] if passing else rest_of(final)
     if not passing:
         active = structured_trials(measured, final, noise, ACTIVE_STRUCTURE_RATIO)
         verdict = "unexplained" if rest_left(rest) or is_unexplained(active, len(data.trials)) else "none"

@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import os
 import time
-from dataclasses import dataclass, field
-from functools import partial
 from collections import OrderedDict
 from contextlib import contextmanager
+from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import Any, Callable, Iterable, Iterator
 
@@ -33,8 +33,8 @@ class FitResult:
     """Outcome of :func:`fit`: the fitted ParameterSet, the :class:`Uncertainty` of the free parameters
     (estimates, SE and intervals in the units of ``SPECS``), cost (sum of squared residuals, see
     :mod:`.objectives`), ``nrmse_percent`` and the simulated force (N) per trial id, counters and history
-(``n_simulations`` counts the trial runs the fit needed, also one a pool-backed fit took from a candidate it had
-just run);
+    (``n_simulations`` counts the trial runs the fit needed, also one a pool-backed fit took from a candidate it
+    had just run);
     ``z`` and ``jacobian``: the search vector of the estimate and dr/dz there (other interval methods:
     :func:`.intervals.fit_uncertainty`)."""
 
