@@ -21,10 +21,13 @@ from .baseline import Baseline, calibrate_baseline, check_split_sizes, check_tri
 from .candidates import Candidate, rank_candidates
 from .extension_fit import ExtensionFit, available, fit_extension, fit_reference
 from .residuals import Noise, Structure, explanatory_variables, noise_level, residual_structure, rest_trend_z
+from .screening import Screen, screen
 from .split import Split, automatic_split, given_split
 from .verdict import ACTIVE_STRUCTURE_RATIO, Evidence, is_unexplained, judge, rest_left, structured_trials
 
-#: Testable candidates with an extension in the catalogue whose extension is fitted, best ranked first.
+#: Most candidates fitted: testable ones with an extension in the catalogue whose linearised gain at the reference
+#: beats its BIC penalty (:mod:`.screening`), best first.  One whose effect cannot lower the calibration trials'
+#: chi-square to first order within its bounds is not fitted.
 MAX_FITS = 4
 
 
@@ -33,7 +36,8 @@ class Diagnosis:
     """Everything the report needs: the split, baseline, noise, residual structure, candidates (ranked), the
     reference (baseline with Module 2 refitted on every calibration trial), the fitted extensions and their
     evidence against it, the verdict, the trials still structured after it, each trial's rest trend z (None
-    without a rest window) under the verdict's model, wall time (s)."""
+    without a rest window) under the verdict's model, wall time (s), each testable extension's screen at the
+    reference (which decided the ones fitted)."""
 
     data: MeasuredData
     split: Split
@@ -50,6 +54,7 @@ class Diagnosis:
     rest: dict[str, float | None]
     wall_time_s: float
     variables: dict[str, dict[str, np.ndarray]] = field(repr=False, default_factory=dict)
+    screens: dict[str, Screen] = field(default_factory=dict)
 
     @property
     def final_simulated(self) -> dict[str, np.ndarray]:
@@ -98,7 +103,7 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
     candidates = rank_candidates(data.trials, baseline.parameters["g1"], split.calibration, split.heldout, resid,
                                  noise, variables)
     catalogue = set(available())
-    to_fit = [c.cause.name for c in candidates if c.untestable is None and c.cause.name in catalogue][:max_fits]
+    testable = [c.cause.name for c in candidates if c.untestable is None and c.cause.name in catalogue]
     fits: dict[str, ExtensionFit] = {}
     evidence: dict[str, Evidence] = {}
     rests: dict[str, dict[str, float | None]] = {}  # each model's rest trend z by trial (rest_trend_z)
@@ -110,6 +115,12 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
     cal = [data.trials[i] for i in split.calibration]
     _say(progress, "reference: Module 2 refitted on every calibration trial (what each candidate is judged against)")
     reference = fit_reference(baseline.parameters, cal, trials, baseline.options, pool=pool)
+    _say(progress, f"screening {len(testable)} testable extensions: linearised gain at the reference")
+    screens = screen(testable, reference.parameters, reference.simulated, cal, measured, noise, baseline.options,
+                     pool=pool)
+    to_fit = [n for n in sorted(testable, key=lambda n: -screens[n].score) if screens[n].score > 0][:max_fits]
+    _say(progress, "  scores (gain - penalty): " + "; ".join(f"{n} {screens[n].score:.4g}" for n in
+                                                            sorted(testable, key=lambda n: -screens[n].score)))
     for k, name in enumerate(to_fit, 1):
         _say(progress, f"candidate {k}/{len(to_fit)}: fitting extension {name!r} on the calibration trials")
         fits[name] = f = fit_extension(name, reference.parameters, cal, trials, baseline.options, pool=pool)
@@ -132,4 +143,4 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
         verdict = "unexplained" if rest_left(rest) or is_unexplained(active, len(data.trials)) else "none"
     _say(progress, f"verdict: {verdict}")
     return Diagnosis(data, split, baseline, noise, structure, candidates, fits, evidence, verdict, structured, after,
-                     reference, rest, time.perf_counter() - t0, variables)
+                     reference, rest, time.perf_counter() - t0, variables, screens)

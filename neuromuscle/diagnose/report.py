@@ -90,9 +90,12 @@ def _cause_entries(d: Diagnosis) -> list[dict[str, Any]]:
             "telling_heldout": next(c.telling_heldout for c in d.candidates if c.cause.name == n)})
     for c in d.candidates:
         if c.untestable is None and c.cause.name not in d.fits:
+            sc = d.screens.get(c.cause.name)
+            why = ("no extension in the catalogue" if sc is None else
+                   f"linearised chi2 gain at the reference {sc.gain:.4g} " +
+                   (f"<= its BIC penalty {sc.penalty:.3g}" if sc.score <= 0 else "below the fitted ones'"))
             entries.append({"name": c.cause.name, "fitted": False, "parameters": {},
-                            "evidence": f"testable but not fitted (no extension in the catalogue, or ranked below "
-                                        f"the fitted ones); residual score {c.score:.3g}",
+                            "evidence": f"testable but not fitted ({why}); residual score {c.score:.3g}",
                             "nrmse_heldout_before": before, "nrmse_heldout_after": before})
     return entries
 
@@ -105,7 +108,9 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
         "causes": _cause_entries(d),
         "untestable": [{"name": c.cause.name, "reason": c.untestable} for c in d.candidates if c.untestable],
         "ranking": [{"name": c.cause.name, "score": c.score, "eta2": c.eta2, "excess_share": c.excess_share,
-                     "variable": c.cause.variable} for c in d.candidates],
+                     "variable": c.cause.variable,
+                     **({"screening": d.screens[c.cause.name].to_json()} if c.cause.name in d.screens else {})}
+                    for c in d.candidates],
         "baseline": {"nrmse": d.baseline.nrmse, "parameters": dict(d.baseline.parameters.values),
                      "stages": [{"stage": s.stage, "values": s.values, "skipped": s.skipped, "data": s.trials,
                                  "notes": s.notes} for s in d.baseline.stages]},

@@ -1,0 +1,49 @@
+"""The screening of candidates (diagnose/screening.py): the linearised gain of each extension at the reference puts
+the effect that is in the data first, and gives nothing to an effect that is not."""
+
+import numpy as np
+import pytest
+
+from diagnose_datasets import make_data
+from neuromuscle.diagnose.baseline import OPTIONS, simulate_all
+from neuromuscle.diagnose.residuals import Noise
+from neuromuscle.diagnose.screening import screen
+from neuromuscle.parameters import load_parameters
+
+NAMES = ["staircase", "fatigue", "relaxation_rate", "doublet_potentiation"]
+SD_N = 0.01  # white noise (N), ~0.3 % of the 40 Hz trains' force
+
+
+@pytest.fixture(scope="module")
+def setting():
+    """Ten short trials (twitches, 10-60 Hz trains, 1.5 s trains), CT09 as the reference, and its forces."""
+    trials = list(make_data(5).trials.values())
+    ref = load_parameters("CT09")
+    return trials, ref, simulate_all(ref, trials, OPTIONS)
+
+
+def _measured(trials, clean, seed):
+    rng = np.random.default_rng(seed)
+    return {t.trial_id: clean[t.trial_id] + rng.normal(0.0, SD_N, clean[t.trial_id].size) for t in trials}
+
+
+def _noise(trials, measured):
+    return {t.trial_id: Noise(SD_N, 0.0, float(measured[t.trial_id].size)) for t in trials}
+
+
+def test_the_effect_in_the_data_comes_first(setting):
+    trials, ref, ref_sims = setting
+    truth = ref.with_values({"staircase.k": 0.4, "staircase.u": 0.1, "staircase.tau": 3000.0})
+    measured = _measured(trials, simulate_all(truth, trials, OPTIONS, ("staircase",)), 1)
+    s = screen(NAMES, ref, ref_sims, trials, measured, _noise(trials, measured), OPTIONS)
+    order = sorted(NAMES, key=lambda n: -s[n].score)
+    assert order[0] == "staircase", {n: s[n].score for n in NAMES}
+    assert s["staircase"].score > 100.0 * s["staircase"].penalty
+    assert s["staircase"].moves["staircase.k"] > 0.0  # the sign of the hidden staircase
+
+
+def test_no_effect_no_gain_beyond_the_penalty(setting):
+    trials, ref, ref_sims = setting
+    measured = _measured(trials, ref_sims, 2)
+    s = screen(NAMES, ref, ref_sims, trials, measured, _noise(trials, measured), OPTIONS)
+    assert all(s[n].score <= 0.0 for n in NAMES), {n: (s[n].gain, s[n].penalty) for n in NAMES}
