@@ -1,27 +1,61 @@
 COMMENT
-Model extension "relaxation_rate" (shared/spec/diagnosis.md: the model relaxes slower or faster than the data):
-constant factors on the SR pump (re-uptake, eq 4) and on Module 2's time constant tau_A (eq 8).
+Model extension "relaxation_rate" (shared/spec/diagnosis.md: the model relaxes slower or faster than the data; the
+re-uptake adjustment): the SR pump (eq 4) changes its speed over the relaxation after each spike.  A state W (1)
+is reset to 0 by every spike and recovers towards 1 with time constant tau; the pump is multiplied by 1 + k W.
+So k > 0 is a pump that speeds up late after a spike (relaxation faster than the model's once the Ca2+ transient
+has peaked), k < 0 one that slows down late; during a fused tetanus W stays near 0 and nothing changes.
 
-Equations (units: uptake 1, tauA 1):
-    U = uptake Umax (...)^2                       RANGE uptake drives KimCa's uptake_gain port (eq 4 scaled)
-    tau_A = tauA C3 / cosh((x - C4)/(2 C5))       RANGE tauA drives KimAct's tauA_gain port (eq 8 scaled)
-tauA > 1 slows both the rise and the decay of activation (CT09 twitch at -8 mm, tauA = 2: peak 0.34x,
-half-relaxation 41 -> 81 ms).  uptake sets the size of the Ca2+ transient more than its decay: uptake > 1 gives a
-smaller, earlier twitch that relaxes a little more slowly from its peak (uptake = 2: peak 0.41x, time to peak
-81 -> 66 ms, half-relaxation 41 -> 51 ms), uptake < 1 a larger, later one.  With uptake = tauA = 1 (their
-neutral values, the defaults) the unit is bit-identical to the baseline.
-Bounds (neuromuscle/model/extensions/relaxation_rate.py): both in [0.3, 3].
-Coupling: no spikes, no states; the POINTERs read the two PARAMETERs directly, so a value set between runs (or
-during one, from hoc) takes effect at the next step.  O(1): nothing is computed.
+Equations (units: k 1, tau ms, t ms):
+    dW/dt = (1 - W) / tau                         between spikes; W = 1 at rest (INITIAL: long since a spike)
+    W -> (1 - w) W                                at a spike of NetCon weight w (1 for one spike: W -> 0)
+    gain = 1 + k W                                drives KimCa's uptake_gain port: U = gain Umax (...)^2
+After a single spike at t0, W = 1 - exp(-(t - t0)/tau) (a first-order recovery; synth's hidden relaxation effect
+is a third-order Hill function of the time since the last spike, a different form: docs/synth.md).
+A constant factor on the pump (this extension's form until stop 21, with a factor on tau_A) recalibrated Module 1:
+synth moves every preparation's pump by ~20 %, so it named calibration misfit, and a factor on tau_A is Module 2's
+C3, which the reference and every candidate's fit refit anyway.
+With k = 0 (its neutral value) gain is exactly 1: the unit is bit-identical to the baseline.
+Bounds (neuromuscle/model/extensions/relaxation_rate.py): k in [-0.7, 3], tau in [5, 500] ms.
+Coupling: receives the unit's spikes (NET_RECEIVE); exposes RANGE gain (1) for POINTER KimCa.uptake_gain.  KimCa
+reads the gain only in its next state update, after every event of that time is delivered.
+Numerics: linear relaxation, METHOD cnexp exact between spikes in fixed step; CVODE integrates the same
+DERIVATIVE; the reset is an event.  O(1) per step whatever the spike count.
 ENDCOMMENT
 
 NEURON {
     POINT_PROCESS ExtRelaxation
     THREADSAFE
-    RANGE uptake, tauA
+    RANGE k, tau, gain
 }
 
 PARAMETER {
-    uptake = 1 (1)
-    tauA = 1 (1)
+    k = 0.5 (1)
+    tau = 50 (ms)
+}
+
+ASSIGNED {
+    gain (1)
+}
+
+STATE {
+    W (1)
+}
+
+INITIAL {
+    W = 1
+    gain = 1 + k
+}
+
+BREAKPOINT {
+    SOLVE states METHOD cnexp
+}
+
+DERIVATIVE states {
+    W' = (1 - W)/tau
+    gain = 1 + k*W
+}
+
+NET_RECEIVE(w (1)) {
+    W = (1 - w)*W
+    gain = 1 + k*W
 }
