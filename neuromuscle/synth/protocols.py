@@ -2,14 +2,15 @@
 
 Lengths are set relative to the preparation's optimum (as an experimenter sets them after a length-tension scan):
 "optimal" at the optimum, "short" SHORT_MM below it, "long" LONG_MM above it.  Every stimulated trial starts with
-PRE_S of rest before its first stimulus.  27 trials, about 80 s of simulated time in all (``total_duration_s``):
+PRE_S of rest before its first stimulus.  28 trials, about 92 s of simulated time in all (``total_duration_s``):
 
 * twitches at the three lengths; 10 and 40 Hz trains (1 s) at the three lengths; 3 Hz (4 s), 20 Hz (1 s) and
   100 Hz (0.5 s) trains at the optimum;
 * doublets: a 10 Hz train (1 s) at the optimum whose first stimulus is followed by one more 5, 10 or 15 ms later;
 * long 30 Hz and 40 Hz trains (12 s) at the optimum (fatigue; two, so that a split can calibrate on one and
   judge on the other);
-* potentiation: three twitches 1 s apart, a 100 Hz conditioning train (1 s), four twitches 2 s apart;
+* potentiation: three twitches 1 s apart, a 100 Hz conditioning train (1 s, or 0.5 s in a second trial, so that a
+  split can calibrate on one dose and judge on the other), four twitches 2 s apart;
 * isokinetic ramps between short and optimal, lengthening and shortening, during a 10 Hz (10 mm/s) or a 40 Hz
   (20 mm/s) train;
 * stretch-hold (optimal -> long) and shortening-hold (long -> optimal) at 20 mm/s during a 40 Hz train (2.5 s);
@@ -98,9 +99,12 @@ def standard_protocols(optimum_mm: float) -> list[PlannedTrial]:
     for rate in (30, 40):  # two, so that the diagnosis's split can hold one out
         trials.append(_isometric(f"long_train{rate}_opt", "long_train", _train(rate, 12.0), opt, "optimal",
                                  rate_hz=rate))
-    pap = np.concatenate([PRE_S + np.arange(3.0), _train(100, 1.0, PRE_S + 3.0), PRE_S + 5.0 + 2.0 * np.arange(4)])
-    trials.append(_isometric("potentiation_opt", "potentiation", pap, opt, "optimal", rate_hz=100,
-                             twitch_times_s=np.concatenate([pap[:3], pap[-4:]])))
+    for tid, train_s in (("potentiation_opt", 1.0), ("potentiation_half_opt", 0.5)):  # two doses, so that a
+        # split can calibrate on one and judge on the other (with one, post-activation potentiation was untestable)
+        pap = np.concatenate([PRE_S + np.arange(3.0), _train(100, train_s, PRE_S + 3.0),
+                              PRE_S + 4.0 + train_s + 2.0 * np.arange(4)])
+        trials.append(_isometric(tid, "potentiation", pap, opt, "optimal", rate_hz=100,
+                                 twitch_times_s=np.concatenate([pap[:3], pap[-4:]])))
     trials += _ramps(lengths) + _holds(lengths) + _random(lengths) + [_step(opt)]
     return trials
 

@@ -21,8 +21,10 @@ NULL_TRIALS = ("twitch_opt", "train3_opt", "ramp_lengthen10")
 def test_standard_protocol_set_is_about_25_trials_and_modest_in_time():
     plan = standard_protocols(-8.0)
     assert 24 <= len(plan) <= 28
-    assert total_duration_s(plan) < 85.0  # 80 s: two 12 s long trains (one for each side of a diagnosis's split)
+    assert total_duration_s(plan) < 95.0  # 91 s: two 12 s long trains and two ~11 s potentiation trials
+    # two of each, one for each side of a diagnosis's split (with one, the cause it tells is untestable)
     assert sum(p.protocol == "long_train" for p in plan) == 2
+    assert sum(p.protocol == "potentiation" for p in plan) == 2
     kinds = {p.protocol for p in plan}
     assert {"twitch", "train", "doublet", "long_train", "potentiation", "isokinetic", "stretch_hold",
             "shorten_hold", "random_length", "step"} <= kinds
