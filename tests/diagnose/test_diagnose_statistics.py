@@ -1,5 +1,7 @@
 """Noise estimate from differences, the split, and the decision rule on constructed residuals."""
 
+import copy
+
 import numpy as np
 import pytest
 
@@ -135,3 +137,18 @@ def test_automatic_split_puts_each_protocol_on_both_sides():
     assert g.heldout == ("twitch_opt", "long50_opt") and "twitch_opt" not in g.calibration
     with pytest.raises(InputError, match="nosuch"):
         given_split(data, ["nosuch"])
+
+
+def test_automatic_split_holds_out_between_calibration_trials():
+    """Doublets at 5, 10 and 15 ms (same length and stimulus count): the 10 ms one is held out, so the doublet
+    extension is judged where it interpolates (ordered by id as text, 15 ms was held out)."""
+    data = make_data(0)
+    base = data.trials["train20_opt"]
+    for isi in (5, 10, 15):
+        t = copy.deepcopy(base)
+        t.trial_id, t.protocol = f"doublet{isi}_opt", "doublet"
+        stim = np.asarray(base.stimulus_times_s, dtype=float)
+        t.stimulus_times_s = np.sort(np.append(stim[:-1], stim[0] + isi / 1000.0))  # same count, shortest ISI isi
+        data.trials[t.trial_id] = t
+    s = automatic_split(data)
+    assert "doublet10_opt" in s.heldout and {"doublet5_opt", "doublet15_opt"} <= set(s.calibration)
