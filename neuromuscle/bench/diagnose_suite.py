@@ -10,6 +10,7 @@ The draws come from one seeded generator, so a suite is reproducible.  Units: %,
 
 from __future__ import annotations
 
+import json
 import sys
 import time
 from dataclasses import asdict, dataclass
@@ -44,7 +45,8 @@ class SuiteCase:
 
 def suite_cases(n_seeds: int, causes: Sequence[str] | None = None, seed: int = 0) -> list[SuiteCase]:
     """n_seeds cases for each of ``causes`` (default: every canonical cause, the out-of-catalogue effects and
-    "none"), drawn from one generator seeded by ``seed``."""
+    "none"), drawn from one generator seeded by ``seed``.  Every known cause is drawn and the others dropped, so a
+    subset gets the same draws as in the whole suite (and the first k seeds of N those of a suite of k)."""
     from ..synth import CAUSES, OUTSIDE
 
     if isinstance(n_seeds, bool) or not isinstance(n_seeds, int) or n_seeds < 1:
@@ -57,9 +59,11 @@ def suite_cases(n_seeds: int, causes: Sequence[str] | None = None, seed: int = 0
     rng = np.random.default_rng(seed)
     out = []
     for _ in range(n_seeds):
-        for c in names:
-            out.append(SuiteCase(c, 0.0 if c == "none" else float(rng.uniform(*STRENGTH_RANGE)),
-                                 float(rng.uniform(*NOISE_PCT_RANGE)), int(rng.integers(0, 2**31 - 1))))
+        for c in known:
+            case = SuiteCase(c, 0.0 if c == "none" else float(rng.uniform(*STRENGTH_RANGE)),
+                             float(rng.uniform(*NOISE_PCT_RANGE)), int(rng.integers(0, 2**31 - 1)))
+            if c in names:
+                out.append(case)
     return out
 
 
@@ -86,10 +90,12 @@ def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
 
 
 def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 0, workers: int = 2,
-              progress: bool = False) -> dict[str, Any]:
+              progress: bool = False, journal: str | None = None) -> dict[str, Any]:
     """Make and diagnose every case of ``suite_cases`` (blind) and return {"cases": [...], **score}; each case
-    records its draw, the verdict, the held-out gain of the named extension (if any), the rules each fitted
-    candidate failed, the trials still structured under the verdict's model and the wall time (s)."""
+    records its draw, the verdict, the held-out gain of the named extension (if any), each fitted candidate's
+    held-out chi-square gain and the rules it failed, every testable extension's screening score, the trials
+    still structured under the verdict's model and the wall time (s).  journal: a file to which each case's
+    record is appended as one JSON line when it is done (a long suite's finished cases survive an interrupt)."""
     from ..diagnose.diagnosis import diagnose_data
     from ..diagnose.verdict import rest_structured
     from ..synth import make_dataset, without_truth
@@ -106,10 +112,15 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
                "gain_ok": bool(ev is not None and ev.passed),
                "heldout_gain": None if ev is None else float(ev.chi2_gain),
                "candidates_fitted": {n: e.failed for n, e in d.evidence.items()},
+               "candidates_chi2": {n: round(float(e.chi2_gain), 1) for n, e in d.evidence.items()},
+               "screening_scores": {n: round(s.score, 1) for n, s in d.screens.items()},
                "structured_trials": list(d.structured_after),
                "rest_structured_trials": rest_structured(d.rest)[0],
                "wall_s": round(time.perf_counter() - t0, 1)}
         results.append(row)
+        if journal is not None:
+            with open(journal, "a", encoding="utf-8") as fh:
+                fh.write(json.dumps(row) + "\n")
         if progress:
             print(f"neuromuscle bench diagnose --suite: {k}/{len(cases)} {case.cause} (strength "
                   f"{case.strength:.2f}, noise {case.noise_pct:.2f} %, seed {case.seed}) -> {d.verdict} "

@@ -21,6 +21,13 @@ def test_cases_cover_every_cause_the_outside_effect_and_none_reproducibly():
         assert c.expected == ("unexplained" if c.cause in OUTSIDE else c.cause)
 
 
+def test_a_subset_has_the_draws_of_the_whole_suite():
+    whole = suite_cases(3, seed=1)
+    sub = suite_cases(3, ["relaxation_rate", "none"], seed=1)
+    assert sub == [c for c in whole if c.cause in ("relaxation_rate", "none")]
+    assert suite_cases(1, seed=1) == whole[:len(whole) // 3]  # the first seed of three is a suite of one
+
+
 def _row(cause, expected, verdict, gain_ok):
     return {"cause": cause, "expected": expected, "verdict": verdict, "gain_ok": gain_ok}
 
@@ -42,7 +49,8 @@ def test_score_counts_hits_false_alarms_and_wrong_names():
 
 @pytest.mark.parametrize("argv, message", [(["--suite", "0"], "seeds"), (["--suite", "1", "--causes", "gout"],
                                                                         "unknown cause"),
-                                           (["--causes", "fatigue"], "needs --suite")])
+                                           (["--causes", "fatigue"], "need --suite"),
+                                           (["--journal", "j.jsonl"], "need --suite")])
 def test_bad_suite_arguments_are_refused_before_any_work(argv, message, capsys):
     assert main(["bench", "diagnose", *argv]) != 0
     assert message in capsys.readouterr().err
