@@ -114,7 +114,7 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
 
     cal = [data.trials[i] for i in split.calibration]
     _say(progress, "reference: Module 2 refitted on every calibration trial (what each candidate is judged against)")
-    reference = fit_reference(baseline.parameters, cal, trials, baseline.options, pool=pool)
+    reference = fit_reference(baseline.parameters, cal, trials, baseline.options, pool=pool, noise=noise)
     _say(progress, f"screening {len(testable)} testable extensions: linearised gain at the reference")
     screens = screen(testable, reference.parameters, reference.simulated, cal, measured, noise, baseline.options,
                      pool=pool)
@@ -123,7 +123,8 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
                                                             sorted(testable, key=lambda n: -screens[n].score)))
     for k, name in enumerate(to_fit, 1):
         _say(progress, f"candidate {k}/{len(to_fit)}: fitting extension {name!r} on the calibration trials")
-        fits[name] = f = fit_extension(name, reference.parameters, cal, trials, baseline.options, pool=pool)
+        fits[name] = f = fit_extension(name, reference.parameters, cal, trials, baseline.options, pool=pool,
+                                       noise=noise)
         evidence[name] = judge(split.heldout, measured, reference.simulated, f.simulated, noise, f.n_parameters,
                                f.away_from_neutral())
         rests[name] = rest_of(f.simulated)
