@@ -6,6 +6,7 @@
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 from contextlib import nullcontext
@@ -113,6 +114,7 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
                 for i, t in data.trials.items()}
 
     cal = [data.trials[i] for i in split.calibration]
+    n_eff_cal = sum(noise[i].n_eff for i in split.calibration)  # the fits minimise the calibration chi-square
     _say(progress, "reference: Module 2 refitted on every calibration trial (what each candidate is judged against)")
     reference = fit_reference(baseline.parameters, cal, trials, baseline.options, pool=pool, noise=noise)
     _say(progress, f"screening {len(testable)} testable extensions: linearised gain at the reference")
@@ -125,8 +127,9 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
         _say(progress, f"candidate {k}/{len(to_fit)}: fitting extension {name!r} on the calibration trials")
         fits[name] = f = fit_extension(name, reference.parameters, cal, trials, baseline.options, pool=pool,
                                        noise=noise)
+        lr = (reference.fit.cost - f.fit.cost, f.n_parameters * math.log(max(n_eff_cal, 2.0)))
         evidence[name] = judge(split.heldout, measured, reference.simulated, f.simulated, noise, f.n_parameters,
-                               f.away_from_neutral())
+                               f.away_from_neutral(), calibration=lr)
         rests[name] = rest_of(f.simulated)
         left = rest_left(rests[name])
         if left:

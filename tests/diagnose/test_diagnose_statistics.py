@@ -72,6 +72,17 @@ def test_rule_needs_a_reference_misfit():
 def test_rule_refuses_an_unidentified_extension():
     ids, meas, before, after, noise = _case(np.random.default_rng(3), 0.0, 0.3, 0.8)
     assert not judge(ids, meas, before, after, noise, 2, []).passed
+    ev = judge(ids, meas, before, after, noise, 2, [], calibration=(12.0, 15.0))
+    assert not ev.passed and "calibration chi2 gain 12.0 <= BIC penalty 15.0" in ev.failed[0], ev.text()
+
+
+def test_a_calibration_likelihood_ratio_identifies_an_extension_without_a_clear_interval():
+    """Rule 1's likelihood-ratio form: no interval excludes neutral, but the calibration fit gains more than its
+    penalty over the reference."""
+    ids, meas, before, after, noise = _case(np.random.default_rng(3), 0.0, 0.3, 0.8)
+    ev = judge(ids, meas, before, after, noise, 2, [], calibration=(250.0, 15.0))
+    assert ev.passed, ev.text()
+    assert ev.to_json()["calibration_chi2_gain"] == 250.0
 
 
 def test_unexplained_needs_several_trials():
