@@ -97,6 +97,8 @@ class Evidence:
                 f"{self.bic_penalty:.1f}); bootstrap 5th percentile {self.bootstrap_p05_N2:.4g}; removes "
                 f"{100 * self.excess_removed:.0f} % of the held-out error above noise; parameters away from "
                 f"neutral: {', '.join(self.identified) or 'none'}"
+                + (f"; calibration chi2 gain {self.calibration_chi2_gain:.1f} vs BIC penalty "
+                   f"{self.calibration_penalty:.1f}" if self.calibration_chi2_gain is not None else "")
                 + (f"; FAILS: {'; '.join(self.failed)}" if self.failed else "; passes every rule"))
 
     def to_json(self) -> dict:
