@@ -18,7 +18,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, NumericalError
 
 #: Strength (fraction of the effect's amplitude range) and noise (% of P0) ranges of the suite's draws.
 STRENGTH_RANGE = (0.25, 1.0)
@@ -67,6 +67,13 @@ def suite_cases(n_seeds: int, causes: Sequence[str] | None = None, seed: int = 0
     return out
 
 
+def _journal(path: str | None, row: dict[str, Any]) -> None:
+    """Append one case's record to the journal file as a JSON line (nothing without a journal)."""
+    if path is not None:
+        with open(path, "a", encoding="utf-8") as fh:
+            fh.write(json.dumps(row) + "\n")
+
+
 def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
     """Hit rate per cause and overall, false-alarm rate on the nulls, wrong names, from the per-case results
     (each with "cause", "expected", "verdict" and "gain_ok")."""
@@ -76,14 +83,15 @@ def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
         p["n"] += 1
         hit = r["verdict"] == r["expected"] and (r["expected"] in ("none", "unexplained") or r["gain_ok"])
         p["hits"] += int(hit)
-        p["wrong_name"] += int(r["verdict"] not in (r["expected"], "none", "unexplained"))
+        p["wrong_name"] += int(r["verdict"] not in (r["expected"], "none", "unexplained", "error"))
     effects = [r for r in results if r["cause"] != "none"]
     nulls = [r for r in results if r["cause"] == "none"]
     hits = sum(per[c]["hits"] for c in per if c != "none")
     return {"per_cause": {c: {**p, "hit_rate_pct": round(100.0 * p["hits"] / p["n"], 1)} for c, p in per.items()},
             "hit_rate_pct": round(100.0 * hits / len(effects), 1) if effects else None,
-            "false_alarm_rate_pct": (round(100.0 * sum(r["verdict"] != "none" for r in nulls) / len(nulls), 1)
-                                     if nulls else None),
+            "false_alarm_rate_pct": (round(100.0 * sum(r["verdict"] not in ("none", "error") for r in nulls)
+                                           / len(nulls), 1) if nulls else None),
+            "errors": sum(r["verdict"] == "error" for r in results),
             "wrong_name_rate_pct": (round(100.0 * sum(per[c]["wrong_name"] for c in per if c != "none")
                                           / len(effects), 1) if effects else None),
             "targets": {"hit_rate_pct": ">= 90", "false_alarm_rate_pct": "0"}}
@@ -106,7 +114,17 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
         t0 = time.perf_counter()
         data = make_dataset(None if case.cause == "none" else case.cause, case.strength, case.seed,
                             noise_pct=case.noise_pct, workers=workers)
-        d = diagnose_data(without_truth(data), workers=workers)
+        try:
+            d = diagnose_data(without_truth(data), workers=workers)
+        except (InputError, NumericalError) as e:  # one case's failure is recorded, and the suite goes on
+            row = {**asdict(case), "expected": case.expected, "verdict": "error", "error": str(e),
+                   "gain_ok": False, "heldout_gain": None, "wall_s": round(time.perf_counter() - t0, 1)}
+            results.append(row)
+            _journal(journal, row)
+            if progress:
+                print(f"neuromuscle bench diagnose --suite: {k}/{len(cases)} {case.cause}: ERROR {e}",
+                      file=sys.stderr, flush=True)
+            continue
         ev = d.evidence.get(d.verdict)
         row = {**asdict(case), "expected": case.expected, "verdict": d.verdict,
                "gain_ok": bool(ev is not None and ev.passed),
@@ -118,9 +136,7 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
                "rest_structured_trials": rest_structured(d.rest)[0],
                "wall_s": round(time.perf_counter() - t0, 1)}
         results.append(row)
-        if journal is not None:
-            with open(journal, "a", encoding="utf-8") as fh:
-                fh.write(json.dumps(row) + "\n")
+        _journal(journal, row)
         if progress:
             print(f"neuromuscle bench diagnose --suite: {k}/{len(cases)} {case.cause} (strength "
                   f"{case.strength:.2f}, noise {case.noise_pct:.2f} %, seed {case.seed}) -> {d.verdict} "

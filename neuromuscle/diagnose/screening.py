@@ -38,7 +38,7 @@ from ..fit import SimulationOptions
 from ..fit.evaluate import TrialPool
 from ..measured import Trial
 from ..model.extensions import registry
-from ..parameters import ParameterSet
+from ..parameters import SPECS, ParameterSet
 from .baseline import simulate_all
 from .residuals import Noise
 
@@ -88,6 +88,13 @@ def _sims(sets: Sequence[ParameterSet], trials: Sequence[Trial], options: Simula
     return [simulate_all(p, trials, options, extensions) for p in sets]
 
 
+def _step_within(name: str, value: float) -> float:
+    """Module 2's move of ``name`` from ``value``: MODULE2_STEP relative, downwards where upwards would leave the
+    parameter's range (a fit can end on its bound: suite seed 1's fatigue case had alpha at 8)."""
+    h = abs(value) * MODULE2_STEP if value != 0 else MODULE2_STEP
+    return -h if value + h > SPECS[name].upper else h
+
+
 def _min_sq(r: np.ndarray, J: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> tuple[float, np.ndarray]:
     """min |r + J d|^2 over lower <= d <= upper, and the d that attains it."""
     if J.shape[1] == 0:
@@ -105,7 +112,7 @@ def screen(names: Sequence[str], reference: ParameterSet, reference_sims: Mappin
     r = _whitened(reference_sims, measured, noise, ids)
     n_eff = max(sum(noise[i].n_eff for i in ids), 2.0)
 
-    m2 = [(n, reference[n] * MODULE2_STEP if reference[n] != 0 else MODULE2_STEP) for n in MODULE2_FREE]
+    m2 = [(n, _step_within(n, reference[n])) for n in MODULE2_FREE]
     m2_sims = _sims([reference.with_values({n: reference[n] + h}) for n, h in m2], calibration, options, (), pool)
     Jm = np.column_stack([(_whitened(s, measured, noise, ids) - r) / h for (n, h), s in zip(m2, m2_sims)])
     unbounded = np.full(Jm.shape[1], np.inf)

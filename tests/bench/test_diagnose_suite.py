@@ -45,6 +45,9 @@ def test_score_counts_hits_false_alarms_and_wrong_names():
     assert s["hit_rate_pct"] == pytest.approx(100 * 2 / 5, abs=0.1)
     assert s["false_alarm_rate_pct"] == 50.0 and s["wrong_name_rate_pct"] == 20.0
     assert "false alarms on nulls 50.0 %" in table_lines(s)[-1]
+    s = score(rows + [_row("staircase", "staircase", "error", False)])  # a case whose diagnosis raised
+    assert s["errors"] == 1 and s["per_cause"]["staircase"]["wrong_name"] == 0
+    assert s["hit_rate_pct"] == pytest.approx(100 * 2 / 6, abs=0.1)
 
 
 @pytest.mark.parametrize("argv, message", [(["--suite", "0"], "seeds"), (["--suite", "1", "--causes", "gout"],

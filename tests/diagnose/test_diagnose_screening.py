@@ -47,3 +47,14 @@ def test_no_effect_no_gain_beyond_the_penalty(setting):
     measured = _measured(trials, ref_sims, 2)
     s = screen(NAMES, ref, ref_sims, trials, measured, _noise(trials, measured), OPTIONS)
     assert all(s[n].score <= 0.0 for n in NAMES), {n: (s[n].gain, s[n].penalty) for n in NAMES}
+
+
+def test_a_reference_on_a_bound_is_screened(setting):
+    """Module 2 is moved downwards where upwards would leave its range (a fit can end on alpha's bound 8: this
+    raised before, and stopped suite seed 1 at its fatigue case)."""
+    trials, ref, _ = setting
+    at_bound = ref.with_values({"alpha": 8.0})
+    sims = simulate_all(at_bound, trials[:3], OPTIONS)
+    measured = _measured(trials[:3], sims, 3)
+    s = screen(["staircase"], at_bound, sims, trials[:3], measured, _noise(trials[:3], measured), OPTIONS)
+    assert s["staircase"].score <= 0.0
