@@ -98,19 +98,22 @@ def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
 
 
 def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 0, workers: int = 2,
-              progress: bool = False, journal: str | None = None) -> dict[str, Any]:
+              progress: bool = False, journal: str | None = None, first: int = 1) -> dict[str, Any]:
     """Make and diagnose every case of ``suite_cases`` (blind) and return {"cases": [...], **score}; each case
     records its draw, the verdict, the held-out gain of the named extension (if any), each fitted candidate's
     held-out chi-square gain and the rules it failed, every testable extension's screening score, the trials
     still structured under the verdict's model and the wall time (s).  journal: a file to which each case's
-    record is appended as one JSON line when it is done (a long suite's finished cases survive an interrupt)."""
+    record is appended as one JSON line when it is done (a long suite's finished cases survive an interrupt);
+    first: the case (1-based, in ``suite_cases`` order) to start from, to resume an interrupted suite."""
     from ..diagnose.diagnosis import diagnose_data
     from ..diagnose.verdict import rest_structured
     from ..synth import make_dataset, without_truth
 
     cases = suite_cases(n_seeds, causes, seed)
+    if isinstance(first, bool) or not isinstance(first, int) or not 1 <= first <= len(cases):
+        raise InputError(f"the first case must be between 1 and {len(cases)}, got {first!r}")
     results = []
-    for k, case in enumerate(cases, 1):
+    for k, case in enumerate(cases[first - 1:], first):
         t0 = time.perf_counter()
         data = make_dataset(None if case.cause == "none" else case.cause, case.strength, case.seed,
                             noise_pct=case.noise_pct, workers=workers)

@@ -36,6 +36,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bd.add_argument("--seed", type=int, default=0, help="with --suite: the draws' seed")
     bd.add_argument("--journal", default=None, metavar="FILE",
                     help="with --suite: append each finished case to FILE as a JSON line")
+    bd.add_argument("--first", type=int, default=1, metavar="K",
+                    help="with --suite: start at case K (1-based, the order of the progress lines): resume a suite")
     bd.add_argument("--json", action="store_true")
     bd.set_defaults(func=run_diagnose)
     bi = bsub.add_parser("intervals", help="coverage of the fit's 95 %% intervals on SciPy reference data with "
@@ -132,11 +134,11 @@ def run_diagnose(args: argparse.Namespace) -> int:
         causes = [c.strip() for c in args.causes.split(",") if c.strip()] if args.causes else None
         suite_cases(args.suite, causes, args.seed)  # bad input refused before any work
         res = run_suite(args.suite, causes=causes, seed=args.seed, workers=args.workers, progress=True,
-                        journal=args.journal)
+                        journal=args.journal, first=args.first)
         print(json.dumps(res, indent=2) if args.json else "\n".join(table_lines(res)))
         return 0
-    if args.causes is not None or args.journal is not None:
-        raise InputError("--causes and --journal need --suite")
+    if args.causes is not None or args.journal is not None or args.first != 1:
+        raise InputError("--causes, --journal and --first need --suite")
     _print(bench_diagnose(args.workers), args.json)
     return 0
 
