@@ -28,8 +28,10 @@ from .verdict import ACTIVE_STRUCTURE_RATIO, Evidence, is_unexplained, judge, re
 
 #: Most candidates fitted: testable ones with an extension in the catalogue whose linearised gain at the reference
 #: beats its BIC penalty (:mod:`.screening`), best first.  One whose effect cannot lower the calibration trials'
-#: chi-square to first order within its bounds is not fitted.
-MAX_FITS = 4
+#: chi-square to first order within its bounds is not fitted.  Three since the screening: over the first nine
+#: effect cases of suite seed 1 it ranked the hidden cause first eight times and third once (relaxation_rate, a
+#: miss either way), and a fourth fit (~25 s) took the standard file's diagnosis to 196 s, over the 180 s target.
+MAX_FITS = 3
 
 
 @dataclass
