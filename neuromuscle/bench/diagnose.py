@@ -1,4 +1,4 @@
-"""``neuromuscle bench diagnose``: wall time of one full diagnosis of the standard synthetic file (27 trials) with 2
+"""``neuromuscle bench diagnose``: wall time of one full diagnosis of the standard synthetic file (28 trials) with 2
 workers, and of its baseline calibration alone.
 
 The file comes from ``neuromuscle.synth.make_dataset`` when that module exists; until then from the diagnosis
@@ -18,7 +18,7 @@ from ..errors import InputError
 
 
 def standard_data() -> tuple[Any, str]:
-    """The standard synthetic preparation (null, 27 trials) and where it came from."""
+    """The standard synthetic preparation (null, 28 trials) and where it came from."""
     try:
         from ..synth import make_dataset  # type: ignore[attr-defined]
         return make_dataset("none", 0.0, 0), "neuromuscle.synth.make_dataset('none', 0, seed 0)"

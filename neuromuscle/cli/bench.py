@@ -26,7 +26,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bf.add_argument("--params", default="CT09")
     bf.add_argument("--json", action="store_true")
     bf.set_defaults(func=run)
-    bd = bsub.add_parser("diagnose", help="wall time of one full diagnosis of the standard synthetic file (27 trials) "
+    bd = bsub.add_parser("diagnose", help="wall time of one full diagnosis of the standard synthetic file (28 trials) "
                                           "and of its baseline calibration alone")
     bd.add_argument("--workers", type=int, default=2)
     bd.add_argument("--suite", type=int, default=None, metavar="N",
