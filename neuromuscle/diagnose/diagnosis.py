@@ -122,9 +122,9 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
     _say(progress, f"screening {len(testable)} testable extensions: linearised gain at the reference")
     screens = screen(testable, reference.parameters, reference.simulated, cal, measured, noise, baseline.options,
                      pool=pool)
-    to_fit = [n for n in sorted(testable, key=lambda n: -screens[n].score) if screens[n].score > 0][:max_fits]
-    _say(progress, "  scores (gain - penalty): " + "; ".join(f"{n} {screens[n].score:.4g}" for n in
-                                                            sorted(testable, key=lambda n: -screens[n].score)))
+    ranked = sorted(testable, key=lambda n: -screens[n].score)
+    to_fit = [n for n in ranked if screens[n].score > 0][:max_fits]
+    _say(progress, "  scores (gain - penalty): " + "; ".join(f"{n} {screens[n].score:.4g}" for n in ranked))
     for k, name in enumerate(to_fit, 1):
         _say(progress, f"candidate {k}/{len(to_fit)}: fitting extension {name!r} on the calibration trials")
         fits[name] = f = fit_extension(name, reference.parameters, cal, trials, baseline.options, pool=pool,

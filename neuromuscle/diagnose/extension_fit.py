@@ -76,8 +76,7 @@ TOLERANCE = 1e-4
 def chi2_weights(calibration: Sequence[Trial], noise: Mapping[str, Noise]) -> list[float]:
     """Each trial's weight (1/N^2) in the "sse" objective that makes the fit's cost the verdict's chi-square:
     (1 - rho) / ((1 + rho) sd^2)."""
-    return [(1.0 - noise[t.trial_id].rho) / ((1.0 + noise[t.trial_id].rho) * noise[t.trial_id].sd_N ** 2)
-            for t in calibration]
+    return [noise[t.trial_id].chi2_weight for t in calibration]
 
 
 def _fit_on(calibration: Sequence[Trial], start: ParameterSet, free: dict, options: SimulationOptions, workers: int,

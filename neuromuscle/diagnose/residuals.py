@@ -56,6 +56,12 @@ class Noise:
     rho: float
     n_eff: float
 
+    @property
+    def chi2_weight(self) -> float:
+        """The weight (1/N^2) of a squared residual (N^2) in the autocorrelation-corrected chi-square of the
+        verdict, the fits and the screening: (1 - rho) / ((1 + rho) sd^2)."""
+        return (1.0 - self.rho) / ((1.0 + self.rho) * self.sd_N ** 2)
+
     def to_json(self) -> dict:
         return {"sd_N": self.sd_N, "rho": self.rho, "n_eff": self.n_eff}
 

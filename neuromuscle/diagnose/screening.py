@@ -70,11 +70,7 @@ class Screen:
 def _whitened(sims: Mapping[str, np.ndarray], measured: Mapping[str, np.ndarray], noise: Mapping[str, Noise],
               ids: Sequence[str]) -> np.ndarray:
     """Residuals of ``ids`` (N) divided by their noise sd and scaled by sqrt((1 - rho)/(1 + rho)), concatenated."""
-    parts = []
-    for i in ids:
-        nz = noise[i]
-        parts.append((sims[i] - measured[i]) / nz.sd_N * math.sqrt((1.0 - nz.rho) / (1.0 + nz.rho)))
-    return np.concatenate(parts)
+    return np.concatenate([(sims[i] - measured[i]) * math.sqrt(noise[i].chi2_weight) for i in ids])
 
 
 def _sims(sets: Sequence[ParameterSet], trials: Sequence[Trial], options: SimulationOptions,
