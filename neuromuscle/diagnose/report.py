@@ -115,9 +115,10 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
                      "stages": [{"stage": s.stage, "values": s.values, "skipped": s.skipped, "data": s.trials,
                                  "notes": s.notes} for s in d.baseline.stages]},
         "reference": {
-            "what": "the baseline with Module 2 refitted on every calibration trial; the candidates' held-out "
+            "what": "the baseline with Module 2 and Umax refitted on every calibration trial; the candidates' held-out "
                     "NRMSE before and gains are measured against it",
-            "module2": dict(d.reference.fit.estimates),
+            "module2": {k: v for k, v in d.reference.fit.estimates.items() if k != "Umax"},
+            "Umax_M_per_ms": d.reference.fit.estimates.get("Umax"),
             "nrmse": {i: nrmse_percent(t.force, d.reference.simulated[i]) for i, t in d.data.trials.items()}},
         "final": {"nrmse": {i: nrmse_percent(t.force, final[i]) for i, t in d.data.trials.items()}},
         "split": d.split.to_json(),

@@ -7,10 +7,11 @@ stop 21, and in suite seed 1 it left the hidden cause unfitted in three of the e
 (length-dependent activation, relaxation rate, post-activation potentiation): a cause's residual need not follow
 the one variable named for it, and the baseline's residual is not the reference's.
 
-Here each candidate is asked what it could do, in the model itself: at the reference (Module 2 refitted on every
-calibration trial, the point every candidate's fit starts from), every effect parameter (those with a neutral
+Here each candidate is asked what it could do, in the model itself: at the reference (Module 2 and Module 1's pump
+rate Umax refitted on every calibration trial, the point every candidate's fit starts from), every effect parameter (those with a neutral
 value) is moved by ``STEP_FRACTION`` of its range from neutral, the calibration trials are simulated once per
-move, and so are moves of Module 2's C1, C2, C3, alpha (by ``MODULE2_STEP`` relative).  The finite differences
+move, and so are moves of what every candidate's fit refits (Module 2's C1, C2, C3, alpha, by ``MODULE2_STEP``
+relative).  The finite differences
 give a Jacobian J = [J_m | J_e] of the residuals, whitened as the verdict's chi-square is (each trial's residual /
 noise sd x sqrt((1 - rho)/(1 + rho))).  The linearised gain is how much further the effect's columns lower the
 chi-square than Module 2's alone:
@@ -20,7 +21,7 @@ chi-square than Module 2's alone:
 (scipy's bounded linear least squares).  It is Rao's score statistic with the effect's bounds kept, the locally
 most powerful test of "effect = neutral", and it is what the candidate's fit will start to gain.  Candidates are
 ordered by gain minus the verdict's BIC penalty p ln N_eff.  Cost: (4 + sum of effect parameters) simulations of the
-calibration trials, about 20 on the standard file.  A gain that needs a parameter held at its default (a time
+calibration trials, about 20 on the standard file, in one call to the worker pool.  A gain that needs a parameter held at its default (a time
 constant, ``neutral`` None) to be far from it is under-rated; the fits start from those defaults as well.
 """
 
@@ -33,13 +34,13 @@ from typing import Mapping, Sequence
 import numpy as np
 from scipy.optimize import lsq_linear
 
-from ..calibration import MODULE2_FREE
 from ..fit import SimulationOptions
 from ..fit.evaluate import TrialPool
 from ..measured import Trial
 from ..model.extensions import registry
 from ..parameters import SPECS, ParameterSet
 from .baseline import simulate_all
+from .extension_fit import REFITTED
 from .residuals import Noise
 
 #: The move of an effect parameter from neutral, as a fraction of its range (a secant: effects are not linear).
@@ -73,15 +74,15 @@ def _whitened(sims: Mapping[str, np.ndarray], measured: Mapping[str, np.ndarray]
     return np.concatenate([(sims[i] - measured[i]) * math.sqrt(noise[i].chi2_weight) for i in ids])
 
 
-def _sims(sets: Sequence[ParameterSet], trials: Sequence[Trial], options: SimulationOptions,
-          extensions: tuple[str, ...], pool: TrialPool | None) -> list[dict[str, np.ndarray]]:
-    """Every trial's force under each parameter set (one pool call when a pool is given)."""
-    if pool is not None and sets:
-        out = pool.simulate(list(sets), trials, replace(options, extensions=extensions))
-        if any(s is None for s in out):
-            return [simulate_all(p, trials, options, extensions) for p in sets]  # names the failing run
-        return [{t.trial_id: f for t, f in zip(trials, s)} for s in out]
-    return [simulate_all(p, trials, options, extensions) for p in sets]
+def _sims(runs: Sequence[tuple[ParameterSet, tuple[str, ...]]], trials: Sequence[Trial],
+          options: SimulationOptions, pool: TrialPool | None) -> list[dict[str, np.ndarray]]:
+    """Every trial's force under each (parameter set, extensions) run: one pool call when a pool is given, so the
+    two workers stay busy to the end (longest trials first) rather than idling at the tail of ~20 small calls."""
+    if pool is not None and runs:
+        out = pool.simulate([p for p, _ in runs], trials, [replace(options, extensions=e) for _, e in runs])
+        if not any(s is None for s in out):
+            return [{t.trial_id: f for t, f in zip(trials, s)} for s in out]
+    return [simulate_all(p, trials, options, e) for p, e in runs]  # serially; names a failing run
 
 
 def _step_within(name: str, value: float) -> float:
@@ -108,29 +109,34 @@ def screen(names: Sequence[str], reference: ParameterSet, reference_sims: Mappin
     r = _whitened(reference_sims, measured, noise, ids)
     n_eff = max(sum(noise[i].n_eff for i in ids), 2.0)
 
-    m2 = [(n, _step_within(n, reference[n])) for n in MODULE2_FREE]
-    m2_sims = _sims([reference.with_values({n: reference[n] + h}) for n, h in m2], calibration, options, (), pool)
-    Jm = np.column_stack([(_whitened(s, measured, noise, ids) - r) / h for (n, h), s in zip(m2, m2_sims)])
-    unbounded = np.full(Jm.shape[1], np.inf)
-    base, _ = _min_sq(r, Jm, -unbounded, unbounded)
-
+    m2 = [(n, _step_within(n, reference[n])) for n in REFITTED]
     known = registry()
-    out: dict[str, Screen] = {}
+    plans = []  # per candidate: the effect parameters' moves and the point they are moved from
     for name in names:
         ext = known[name]
         at = {ext.qualified(p.name): (p.neutral if p.neutral is not None else p.default) for p in ext.parameters}
-        effect = [p for p in ext.parameters if p.neutral is not None]
         moves = []
-        for p in effect:
+        for p in (p for p in ext.parameters if p.neutral is not None):
             h = STEP_FRACTION * (p.upper - p.lower)
             moves.append((ext.qualified(p.name), h if p.neutral + h <= p.upper else -h, p))
-        sets = [reference.with_values({**at, q: at[q] + h}) for q, h, _ in moves]
-        sims = _sims(sets, calibration, options, (name,), pool)
-        Je = np.column_stack([(_whitened(s, measured, noise, ids) - r) / h for (q, h, _), s in zip(moves, sims)])
+        plans.append((name, at, moves))
+    runs = [(reference.with_values({n: reference[n] + h}), ()) for n, h in m2]
+    runs += [(reference.with_values({**at, q: at[q] + h}), (name,)) for name, at, moves in plans for q, h, _ in moves]
+    sims = iter(_sims(runs, calibration, options, pool))
+
+    def column(h: float) -> np.ndarray:
+        return (_whitened(next(sims), measured, noise, ids) - r) / h
+
+    Jm = np.column_stack([column(h) for _, h in m2])
+    unbounded = np.full(Jm.shape[1], np.inf)
+    base, _ = _min_sq(r, Jm, -unbounded, unbounded)
+    out: dict[str, Screen] = {}
+    for name, at, moves in plans:
+        Je = np.column_stack([column(h) for _, h, _ in moves]) if moves else np.zeros((r.size, 0))
         J = np.hstack([Jm, Je])
         lower = np.concatenate([-unbounded, [p.lower - p.neutral for _, _, p in moves]])
         upper = np.concatenate([unbounded, [p.upper - p.neutral for _, _, p in moves]])
         best, d = _min_sq(r, J, lower, upper)
-        out[name] = Screen(name, max(base - best, 0.0), len(effect) * math.log(n_eff),
+        out[name] = Screen(name, max(base - best, 0.0), len(moves) * math.log(n_eff),
                            {q: float(p.neutral + x) for (q, _, p), x in zip(moves, d[Jm.shape[1]:])})
     return out

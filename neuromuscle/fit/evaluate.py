@@ -156,14 +156,18 @@ class TrialPool:
         return [self._index[id(t)] for t in trials]
 
     def simulate(self, params: Sequence[ParameterSet], trials: Sequence[Trial],
-                 options: SimulationOptions) -> list[list[np.ndarray] | None]:
+                 options: SimulationOptions | Sequence[SimulationOptions]) -> list[list[np.ndarray] | None]:
         """The force (N) of every one of ``trials`` (in their order) under each parameter set of ``params``
-        (None for a set whose run of some trial failed numerically)."""
+        (None for a set whose run of some trial failed numerically).  options: one for every set, or one per set
+        (e.g. each with its own extensions: one call keeps both workers busy to the end, longest trials first)."""
         idx = self.indices(trials)
+        per_set = [options] * len(params) if isinstance(options, SimulationOptions) else list(options)
+        if len(per_set) != len(params):
+            raise ValueError(f"{len(per_set)} options for {len(params)} parameter sets")
         order = sorted(range(len(idx)), key=lambda j: -self._span_s[idx[j]])
         tasks = [(c, j) for j in order for c in range(len(params))]
         out: list[list[Any]] = [[None] * len(idx) for _ in params]
-        for (c, j), f in zip(tasks, self._pool.map(_simulate_task, [(params[c], idx[j], options)
+        for (c, j), f in zip(tasks, self._pool.map(_simulate_task, [(params[c], idx[j], per_set[c])
                                                                     for c, j in tasks])):
             out[c][j] = f
         return [None if any(f is None for f in sims) else sims for sims in out]

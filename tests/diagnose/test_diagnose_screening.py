@@ -58,3 +58,21 @@ def test_a_reference_on_a_bound_is_screened(setting):
     measured = _measured(trials[:3], sims, 3)
     s = screen(["staircase"], at_bound, sims, trials[:3], measured, _noise(trials[:3], measured), OPTIONS)
     assert s["staircase"].score <= 0.0
+
+
+def test_one_pool_call_screens_as_the_serial_runs(setting):
+    """On a worker pool every move of every candidate is simulated in one call (each run with its own extension):
+    the screens are those of the serial runs, exactly."""
+    from neuromuscle.fit.evaluate import TrialPool
+
+    trials, ref, ref_sims = setting
+    trials = trials[:4]
+    truth = ref.with_values({"staircase.k": 0.4, "staircase.u": 0.1, "staircase.tau": 3000.0})
+    measured = _measured(trials, simulate_all(truth, trials, OPTIONS, ("staircase",)), 4)
+    noise = _noise(trials, measured)
+    names = ["staircase", "doublet_potentiation"]
+    serial = screen(names, ref, ref_sims, trials, measured, noise, OPTIONS)
+    with TrialPool(trials, 2) as pool:
+        pooled = screen(names, ref, ref_sims, trials, measured, noise, OPTIONS, pool=pool)
+    assert {n: pooled[n].to_json() for n in names} == {n: serial[n].to_json() for n in names}
+    assert serial["staircase"].gain > 0.0

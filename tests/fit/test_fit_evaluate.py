@@ -53,6 +53,9 @@ def test_trial_pool_reassembles_trials_in_order(ct09, twitch_trials):
     with TrialPool([twitch_trials[1], *trials], 2) as pool:
         got = pool.simulate([problem.parameters(z) for z in zs], trials, OPTS)
         half = pool.simulate([problem.parameters(zs[0])], trials, replace(OPTS, dt_ms=0.05))[0]
+        each = pool.simulate([problem.parameters(zs[0])] * 2, trials, [OPTS, replace(OPTS, dt_ms=0.05)])
+        with pytest.raises(ValueError, match="2 options for 1 parameter sets"):
+            pool.simulate([ct09], trials, [OPTS, OPTS])
         res = pool.residuals(problem, zs)
         with pytest.raises(InputError, match="not in this pool"):
             pool.simulate([ct09], [synthetic_trial(ct09, "other", [0.02])], OPTS)
@@ -65,6 +68,8 @@ def test_trial_pool_reassembles_trials_in_order(ct09, twitch_trials):
     for s, w in zip(half, problem.simulate_trials(zs[0], replace(OPTS, dt_ms=0.05))):
         np.testing.assert_array_equal(s, w)
     assert not np.array_equal(got[0][1], got[1][1])  # the candidates differ
+    for s, w in zip(each[0] + each[1], got[0] + half):  # options per set: each set as if called alone
+        np.testing.assert_array_equal(s, w)
 
 
 def test_fits_share_a_pool(ct09, twitch_trials):
