@@ -8,21 +8,21 @@ stop 21, and in suite seed 1 it left the hidden cause unfitted in three of the e
 the one variable named for it, and the baseline's residual is not the reference's.
 
 Here each candidate is asked what it could do, in the model itself: at the reference (Module 2 and Module 1's pump
-rate Umax refitted on every calibration trial, the point every candidate's fit starts from), every effect parameter (those with a neutral
-value) is moved by ``STEP_FRACTION`` of its range from neutral, the calibration trials are simulated once per
-move, and so are moves of what every candidate's fit refits (Module 2's C1, C2, C3, alpha, by ``MODULE2_STEP``
-relative).  The finite differences
-give a Jacobian J = [J_m | J_e] of the residuals, whitened as the verdict's chi-square is (each trial's residual /
-noise sd x sqrt((1 - rho)/(1 + rho))).  The linearised gain is how much further the effect's columns lower the
-chi-square than Module 2's alone:
+rate Umax refitted on every calibration trial, the point every candidate's fit starts from), every effect
+parameter (those with a neutral value) is moved by ``STEP_FRACTION`` of its range from neutral, the calibration
+trials are simulated once per move, and so are moves of what every candidate's fit refits (Module 2's C1, C2, C3,
+alpha, by ``MODULE2_STEP`` relative).  The finite differences give a Jacobian J = [J_m | J_e] of the residuals,
+whitened as the verdict's chi-square is (each trial's residual / noise sd x sqrt((1 - rho)/(1 + rho))).  The
+linearised gain is how much further the effect's columns lower the chi-square than Module 2's alone:
 
     gain = min_dm |r + J_m dm|^2 - min_(dm, de) |r + J_m dm + J_e de|^2,   de within [lower, upper] - neutral
 
 (scipy's bounded linear least squares).  It is Rao's score statistic with the effect's bounds kept, the locally
 most powerful test of "effect = neutral", and it is what the candidate's fit will start to gain.  Candidates are
 ordered by gain minus the verdict's BIC penalty p ln N_eff.  Cost: (4 + sum of effect parameters) simulations of the
-calibration trials, about 20 on the standard file, in one call to the worker pool.  A gain that needs a parameter held at its default (a time
-constant, ``neutral`` None) to be far from it is under-rated; the fits start from those defaults as well.
+calibration trials, about 20 on the standard file, in one call to the worker pool.  A gain that needs a parameter
+held at its default (a time constant, ``neutral`` None) to be far from it is under-rated; the fits start from those
+defaults as well.
 """
 
 from __future__ import annotations
