@@ -21,6 +21,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..analysis.metrics import nrmse_percent
+from ..calibration import MODULE2_FREE
 from ..measured import read_measured
 from ..parameters import SPECS, ParameterSet
 from ..reports.figures import label_axes, legend, mark_times, new_figure, save_figure, set_title
@@ -117,7 +118,7 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
         "reference": {
             "what": "the baseline with Module 2 and Umax refitted on every calibration trial; the candidates' held-out "
                     "NRMSE before and gains are measured against it",
-            "module2": {k: v for k, v in d.reference.fit.estimates.items() if k != "Umax"},
+            "module2": {k: d.reference.fit.estimates[k] for k in MODULE2_FREE},
             "Umax_M_per_ms": d.reference.fit.estimates.get("Umax"),
             "nrmse": {i: nrmse_percent(t.force, d.reference.simulated[i]) for i, t in d.data.trials.items()}},
         "final": {"nrmse": {i: nrmse_percent(t.force, final[i]) for i, t in d.data.trials.items()}},
