@@ -1,5 +1,6 @@
-"""The length and movement side of the catalogue: eqs 18, 19, 20 selectable alone by name (switch extensions of
-KimCa / KimAct), and the history-dependent element (force enhancement after stretch, force depression after
+"""The length and movement side of the catalogue: eqs 18 and 19 selectable alone by name (switch extensions of
+KimCa / KimAct), the release loss while lengthening below the optimum (mod/ext_lengthening.mod; eq 20 stays the
+baseline's own switch), and the history-dependent element (force enhancement after stretch, force depression after
 shortening) driving KimForce's force_offset.  Off or neutral: bit-identical to the baseline in fixed step; on:
 the NMODL (fixed step and CVODE) against the SciPy twin under movement; the effects have their stated sign."""
 
@@ -35,7 +36,7 @@ SPIKES = constant_rate(30, 500.0, start_ms=50.0)
 CASES = {
     LDA: ({"phi1": 0.02, "phi2": 1.16, "phi3": 0.012, "phi4": 1.096}, dict(length_compensation=True)),
     MID: ({"alpha1": 3.0, "alpha2": 150.0, "alpha3": 100.0}, dict(movement_depression=True)),
-    LBO: ({"beta": 0.8, "gamma": 0.004}, dict(lengthening_divisor=True)),
+    LBO: ({"k": 0.5, "v0": 20.0}, {}),
     FE: ({"k": 0.3, "L": 3.0, "tau": 1000.0}, {}),
     FD: ({"k": 0.3, "L": 3.0, "tau": 1000.0}, {}),
 }
@@ -43,13 +44,15 @@ CASES = {
 
 def test_the_five_are_found_by_name_with_neutral_values():
     cat = registry()
-    for name in (LDA, MID, LBO):
+    for name in (LDA, MID):
         assert issubclass(cat[name], SwitchExtension) and cat[name].suffix == ""
     assert {p.name: p.neutral for p in cat[LDA].parameters} == {"phi1": 0.0, "phi2": 1.0, "phi3": 0.0, "phi4": 1.0}
     assert [p.name for p in cat[MID].parameters] == ["alpha1", "alpha2", "alpha3"]
-    assert {p.name: p.neutral for p in cat[LBO].parameters} == {"beta": 0.0, "gamma": 0.0}
-    # their parameters are the baseline's own: a fit of the extension varies kim_m1.phi1, kim_m2.beta ...
-    assert cat[LDA].qualified("phi1") == "kim_m1.phi1" and cat[LBO].qualified("gamma") == "kim_m2.gamma"
+    # their parameters are the baseline's own: a fit of the extension varies kim_m1.phi1, kim_m2.alpha1 ...
+    assert cat[LDA].qualified("phi1") == "kim_m1.phi1" and cat[MID].qualified("alpha1") == "kim_m2.alpha1"
+    assert not issubclass(cat[LBO], SwitchExtension) and cat[LBO].suffix == "ExtLengthening"
+    assert {p.name: p.neutral for p in cat[LBO].parameters} == {"k": 0.0, "v0": None}
+    assert cat[LBO].targets == {"ca.release_gain": "gain"} and cat[LBO].qualified("k") == "lengthening_below_optimum.k"
     for name in (FE, FD):
         assert cat[name].targets == {"force.force_offset": "offset"}
         assert {p.name: p.neutral for p in cat[name].parameters} == {"k": 0.0, "L": None, "tau": None}
@@ -62,7 +65,7 @@ def _fixed(ct09, trace, **kw):
 @pytest.mark.parametrize("name, neutral, eq_off", [
     (LDA, {"phi1": 0.0, "phi2": 1.0, "phi3": 0.0, "phi4": 1.0}, dict(length_compensation=False)),
     (MID, {"alpha1": 0.0}, {}),
-    (LBO, {"beta": 0.0, "gamma": 0.0}, {}),
+    (LBO, {"k": 0.0}, {}),
     (FE, {"k": 0.0}, {}),
     (FD, {"k": 0.0}, {}),
 ])
@@ -89,9 +92,16 @@ def test_neutral_extensions_reproduce_the_stored_baseline_traces():
         np.testing.assert_array_equal(r.force_N[:n], old[:n], err_msg=f"{case} + {list(ext)}")
 
 
+def _eq20_only(**kw):
+    """kim_excitation with eq 20 (the lengthening divisor) alone switched on in KimAct."""
+    exc = kim_excitation(**kw)
+    exc["act"].lengthening_divisor = True
+    return exc
+
+
 def test_selected_equations_equal_the_seed_switches(ct09):
-    """Eq 18 selected by name is kim_excitation(length_compensation=True); eqs 19 and 20 selected together are
-    movement_compensation=True; each selected alone turns on its equation and nothing else."""
+    """Eq 18 selected by name is kim_excitation(length_compensation=True); eq 19 selected by name with eq 20 on in
+    KimAct is movement_compensation=True; each selected alone turns on its equation and nothing else."""
     trace = _protocols()["lengthening_ramp"]
     lencomp = _fixed(ct09, trace, excitation=kim_excitation(length_compensation=True))
     lda = _fixed(ct09, trace, excitation=kim_excitation(length_compensation=False), extensions={LDA: {}})
@@ -104,12 +114,12 @@ def test_selected_equations_equal_the_seed_switches(ct09):
     np.testing.assert_array_equal(given.force_N, _fixed(ct09.with_values(phi), trace).force_N)
 
     movcomp = _fixed(ct09, trace, excitation=kim_excitation(movement_compensation=True), record=("force.F", "act.A"))
-    both = _fixed(ct09, trace, extensions={MID: {}, LBO: {}}, record=("force.F", "act.A"))
+    both = _fixed(ct09, trace, excitation=_eq20_only(), extensions={MID: {}}, record=("force.F", "act.A"))
     np.testing.assert_array_equal(movcomp.force_N, both.force_N)
     assert both.settings["model"]["act"]["movement_compensation"] is True
     base = _fixed(ct09, trace, record=("force.F", "act.alpha_t", "act.A"))
     mid = _fixed(ct09, trace, extensions={MID: {}}, record=("force.F", "act.alpha_t", "act.A"))
-    lbo = _fixed(ct09, trace, extensions={LBO: {}}, record=("force.F", "act.alpha_t", "act.A"))
+    lbo = _fixed(ct09, trace, excitation=_eq20_only(), record=("force.F", "act.alpha_t", "act.A"))
     assert mid["act.alpha_t"].max() > 3.0 and np.all(lbo["act.alpha_t"] == 2.0)  # eq 19 only in mid
     assert mid.settings["model"]["act"] == {"component": "KimActivation", "movement_compensation": False,
                                             "eq19_movement_depression": True, "eq20_lengthening_divisor": False}
@@ -140,10 +150,11 @@ def test_extension_matches_its_scipy_twin_under_movement(ct09, name, protocol):
         assert np.sqrt(np.mean(err**2)) < 0.002 * scale, (method, np.sqrt(np.mean(err**2)) / scale)
         assert np.max(np.abs(err)) < 0.005 * scale, (method, np.max(np.abs(err)) / scale)
     # the extension does something on this protocol, except what its sign excludes: no enhancement without
-    # lengthening, no depression without shortening
+    # lengthening, no depression without shortening, no release loss without lengthening
     plain = simulate(ct09, SPIKES, trace, 600.0, record_dt_ms=0.5, excitation=kim_excitation(length_compensation=False))
     effect = np.max(np.abs(plain.force_N[:n] - ref.force_N[:n])) / scale
-    if (name, protocol) in {(FE, "shortening_hold"), (FD, "lengthening_ramp"), (FD, "stretch_hold")}:
+    if (name, protocol) in {(FE, "shortening_hold"), (FD, "lengthening_ramp"), (FD, "stretch_hold"),
+                            (LBO, "shortening_hold")}:
         assert effect < 0.005, effect
     else:
         assert effect > 0.01, effect
@@ -186,13 +197,34 @@ def test_history_element_leaves_isometric_trials_untouched(ct09):
         assert np.all(r[f"{name}.D"] == 0.0)
 
 
+def test_lengthening_release_loss_acts_below_the_optimum_while_lengthening_and_most_at_low_rates(ct09):
+    """The release loss: nothing in isometric trials, in shortening or above the optimum; while lengthening below
+    the optimum, a relative force loss larger at 10 Hz than in a 100 Hz tetanus (the seed's <= 20 Hz)."""
+    below = isokinetic_ramp(-16.0, -10.0, 20.0, 200.0, 700.0, sample_ms=1.0)  # ct09 g1 = -8 mm
+    above = isokinetic_ramp(-6.0, 0.0, 20.0, 200.0, 700.0, sample_ms=1.0)
+    shortening = isokinetic_ramp(-10.0, -16.0, 20.0, 200.0, 700.0, sample_ms=1.0)
+    ext = {LBO: {"k": 0.5, "v0": 10.0}}
+    loss = {}
+    for rate in (10, 100):
+        spikes = constant_rate(rate, 650.0, start_ms=20.0)
+        for name, trace in (("below", below), ("above", above), ("shortening", shortening), ("iso", -12.0)):
+            base = simulate(ct09, spikes, trace, 700.0, record_dt_ms=0.5)
+            r = simulate(ct09, spikes, trace, 700.0, record_dt_ms=0.5, extensions=ext)
+            if name == "below":
+                ramp = (base.t_ms >= 250.0) & (base.t_ms <= 500.0)
+                loss[rate] = 1.0 - r.force_N[ramp].mean() / base.force_N[ramp].mean()
+            else:
+                np.testing.assert_array_equal(r.force_N, base.force_N, err_msg=f"{name} at {rate} Hz")
+    assert loss[10] > 0.05 and loss[10] > 2.0 * loss[100], loss
+
+
 def test_bad_selections_are_refused(ct09):
     with pytest.raises(InputError, match="driven by two extensions"):
         simulate(ct09, SPIKES, -8.0, 100.0, extensions={FE: {}, FD: {}})
     with pytest.raises(InputError, match="switches an equation of KimCalcium"):
         simulate(ct09, SPIKES, -8.0, 100.0, excitation="hatze", extensions={LDA: {}})
-    with pytest.raises(InputError, match="'beta' = -1 1 is outside its physiological range"):
-        simulate(ct09, SPIKES, -8.0, 100.0, extensions={LBO: {"beta": -1.0}})
+    with pytest.raises(InputError, match="'k' = -1 1 is outside its physiological range"):
+        simulate(ct09, SPIKES, -8.0, 100.0, extensions={LBO: {"k": -1.0}})
     with pytest.raises(InputError, match="'k' = 2 1 is outside"):
         simulate(ct09, SPIKES, -8.0, 100.0, extensions={FD: {"k": 2.0}})
     with pytest.raises(InputError, match="unknown parameter"):
