@@ -20,7 +20,7 @@ CASES = {
                   ("gain",)),
     "doublet_potentiation": ({"k": 1.5, "tau_f": 8.0, "tau_h": 25.0}, np.array([50.0, 58.0, 250.0]), 500.0,
                              ("gain",)),
-    "post_activation_potentiation": ({"k_rel": 1.2, "k_tau": 0.5, "u": 0.03, "tau": 30000.0},
+    "post_activation_potentiation": ({"k_rel": 1.2, "k_tau": 0.5, "u": 0.05, "tau": 30000.0, "tau_f": 20.0},
                                      np.concatenate([constant_rate(100, 200.0, start_ms=50.0), [700.0, 1000.0]]),
                                      1300.0, ("gain", "tgain")),
     "relaxation_rate": ({"k": 1.5, "tau": 30.0}, np.array([50.0, 150.0, 160.0]), 500.0, ("gain",)),
@@ -135,9 +135,24 @@ def test_pap_after_a_tetanus_grows_and_slows_the_twitch(ct09):
     late = base.t_ms >= 790.0
     tb = twitch_metrics(base.t_ms[late], base.force_N[late], 800.0)
     tp = twitch_metrics(pap.t_ms[late], pap.force_N[late], 800.0)
-    # P ~ 0.47 after 20 spikes: release x1.56, tau_A x1.23 (CT09: peak +26 %, half-relaxation +9 %)
+    # u F = 0.05 exp(-10/20) = 0.03 per spike: P ~ 0.43 after 20 spikes: release x1.5, tau_A x1.2
     assert tp.peak_N > 1.15 * tb.peak_N, (tb, tp)
     assert tp.half_relaxation_ms > 1.05 * tb.half_relaxation_ms, (tb, tp)
+
+
+def test_pap_needs_short_intervals(ct09):
+    """The same 20 spikes at 10 Hz (F = exp(-100/20) = 0.007 at each) leave the later twitch almost unchanged;
+    a lone twitch is exactly unchanged (its spike finds F = 0)."""
+    values = CASES["post_activation_potentiation"][0]
+    spikes = np.concatenate([constant_rate(10, 2000.0, start_ms=50.0), [2600.0]])
+    base = simulate(ct09, spikes, XM, 3000.0, record_dt_ms=0.25)
+    pap = simulate(ct09, spikes, XM, 3000.0, record_dt_ms=0.25, extensions={"post_activation_potentiation": values})
+    late = base.t_ms >= 2590.0
+    tb = twitch_metrics(base.t_ms[late], base.force_N[late], 2600.0)
+    tp = twitch_metrics(pap.t_ms[late], pap.force_N[late], 2600.0)
+    assert tb.peak_N <= tp.peak_N < 1.02 * tb.peak_N, (tb, tp)
+    lone = simulate(ct09, [50.0], XM, 400.0, extensions={"post_activation_potentiation": values})
+    np.testing.assert_array_equal(lone.force_N, simulate(ct09, [50.0], XM, 400.0).force_N)
 
 
 @pytest.mark.parametrize("k,peak,time_to_peak", [(2.0, "lower", "earlier"), (-0.5, "higher", "later")])
