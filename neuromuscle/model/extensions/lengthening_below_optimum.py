@@ -4,8 +4,8 @@
 Equations (Xm mm, Vm mm/s positive = lengthening, t ms): target = k (1 - exp(-Vm/v0)) while Xm <= X_opt (= g1)
 and Vm > 0, else 0; dE/dt = (target - E)/tau_on with tau_on = 5 ms (fixed); KimCa's release (eq 3) is multiplied
 by gain = 1 - E.  Neutral: k = 0 (gain exactly 1).  Bounds: k in [0, 0.9] (a lengthening contraction at low rates
-produces up to ~2x less force than the model's, seed 001's eq 20 at CT09 divides A by up to ~1.5 at 100 mm/s and
-its authors found the error largest at <= 20 Hz); v0 in [1, 200] mm/s (half the effect at 0.7 v0: from
+produces up to ~2x less force than the model's; seed 001's eq 20 at CT09 divides A by ~1.6 at the optimum and
+100 mm/s; its authors found the error largest at <= 20 Hz); v0 in [1, 200] mm/s (half the effect at 0.7 v0: from
 slow stretches of a few mm/s to the fastest of the cat hindlimb).
 
 Until stop 23 this extension was seed 001's eq 20 switched on in KimAct (A divided by (1 + beta phi(Xm))
