@@ -7,7 +7,7 @@ POINTER release_gain to the extension's RANGE gain) and may receive the unit's s
 each port points at its mechanism's own neutral value and the unit is bit-identical to the baseline.
 
 A ``SwitchExtension`` has no mechanism of its own: it switches on an equation of a baseline mechanism (eq 18 in
-KimCa, eq 19 or eq 20 in KimAct) and its parameters are that mechanism's own (``kim_m1.phi1``...), declared
+KimCa, eq 19 in KimAct) and its parameters are that mechanism's own (``kim_m1.phi1``...), declared
 again with the values at which the equation does nothing (``neutral``).  Selecting one turns on exactly its
 equation whatever the baseline's switches; parameters given to it replace the baseline's values, the others
 keep them.  If the baseline already has the equation on (``kim_excitation(length_compensation=True)``), selecting
