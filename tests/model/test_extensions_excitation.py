@@ -16,8 +16,9 @@ DT_REC = 0.5  # ms
 
 #: a protocol that shows each effect: (parameters, spikes (ms), duration (ms), recorded exposed outputs)
 CASES = {
-    "staircase": ({"k": 0.5, "u": 0.1, "tau": 3000.0}, constant_rate(5, 1900.0, start_ms=50.0), 2100.0,
-                  ("gain",)),
+    "staircase": ({"k": 0.5, "u": 0.1, "tau": 3000.0, "tau_f": 100.0},
+                  np.concatenate([constant_rate(5, 1000.0, start_ms=50.0), constant_rate(40, 300.0, start_ms=1100.0),
+                                  [1700.0, 1900.0]]), 2100.0, ("gain",)),
     "doublet_potentiation": ({"k": 1.5, "tau_f": 8.0, "tau_h": 25.0}, np.array([50.0, 58.0, 250.0]), 500.0,
                              ("gain",)),
     "post_activation_potentiation": ({"k_rel": 1.2, "k_tau": 0.5, "u": 0.05, "tau": 30000.0, "tau_f": 20.0},
@@ -109,6 +110,27 @@ def test_staircase_sign_and_size(ct09):
     assert up[9] > 1.10 * base[9] and down[9] < 0.90 * base[9]
     # and it is a staircase: the change grows from twitch to twitch
     assert np.all(np.diff(up / base) > 0) and np.all(np.diff(down / base) < 0)
+
+
+def test_staircase_is_built_by_low_rates(ct09):
+    """The same 12 spikes, then a probe twitch 600 ms later.  tau_f 100 ms: at 5 Hz each spike builds S by
+    u (1 - e^-2) = 0.86 u, at 50 Hz by 0.18 u after the first, so the probe grows less than half as much after the
+    50 Hz train.  tau_f 2 ms (the form before stop 24): every spike builds fully and the 50 Hz train, with less
+    time to decay, grows the probe at least as much as the 5 Hz one."""
+    grown = {}
+    for tau_f in (100.0, 2.0):
+        values = {"k": 0.8, "u": 0.03, "tau": 5000.0, "tau_f": tau_f}
+        for rate in (5, 50):
+            train = constant_rate(rate, 12 * 1000.0 / rate - 1.0, start_ms=50.0)
+            assert train.size == 12
+            probe = train[-1] + 600.0
+            spikes = np.concatenate([train, [probe]])
+            b = peaks(simulate(ct09, spikes, XM, probe + 300.0), [probe], 250.0)[0]
+            e = peaks(simulate(ct09, spikes, XM, probe + 300.0, extensions={"staircase": values}), [probe], 250.0)[0]
+            grown[tau_f, rate] = e / b - 1.0
+    assert grown[100.0, 5] > 0.15, grown  # measured 0.25
+    assert 0.0 < grown[100.0, 50] < 0.5 * grown[100.0, 5], grown  # measured 0.11
+    assert grown[2.0, 50] > grown[2.0, 5] > 0.15, grown  # measured 0.32, 0.28
 
 
 def test_doublet_potentiates_short_intervals_only(ct09):
