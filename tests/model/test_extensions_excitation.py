@@ -118,14 +118,14 @@ def test_staircase_is_built_by_low_rates(ct09):
     50 Hz train.  tau_f 2 ms (the form before stop 24): every spike builds fully and the 50 Hz train, with less
     time to decay, grows the probe at least as much as the 5 Hz one."""
     grown = {}
-    for tau_f in (100.0, 2.0):
-        values = {"k": 0.8, "u": 0.03, "tau": 5000.0, "tau_f": tau_f}
-        for rate in (5, 50):
-            train = constant_rate(rate, 12 * 1000.0 / rate - 1.0, start_ms=50.0)
-            assert train.size == 12
-            probe = train[-1] + 600.0
-            spikes = np.concatenate([train, [probe]])
-            b = peaks(simulate(ct09, spikes, XM, probe + 300.0), [probe], 250.0)[0]
+    for rate in (5, 50):
+        train = constant_rate(rate, 12 * 1000.0 / rate - 1.0, start_ms=50.0)
+        assert train.size == 12
+        probe = train[-1] + 600.0
+        spikes = np.concatenate([train, [probe]])
+        b = peaks(simulate(ct09, spikes, XM, probe + 300.0), [probe], 250.0)[0]
+        for tau_f in (100.0, 2.0):
+            values = {"k": 0.8, "u": 0.03, "tau": 5000.0, "tau_f": tau_f}
             e = peaks(simulate(ct09, spikes, XM, probe + 300.0, extensions={"staircase": values}), [probe], 250.0)[0]
             grown[tau_f, rate] = e / b - 1.0
     assert grown[100.0, 5] > 0.15, grown  # measured 0.25
