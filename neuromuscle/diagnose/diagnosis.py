@@ -37,8 +37,8 @@ MAX_FITS = 3
 @dataclass
 class Diagnosis:
     """Everything the report needs: the split, baseline, noise, residual structure, candidates (ranked), the
-    reference (baseline with Module 2 and Umax refitted on every calibration trial), the fitted extensions and their
-    evidence against it, the verdict, the trials still structured after it, each trial's rest trend z (None
+    reference (baseline with Module 2, Umax and tau2 refitted on every calibration trial), the fitted extensions
+    and their evidence against it, the verdict, the trials still structured after it, each trial's rest trend z (None
     without a rest window) under the verdict's model, wall time (s), each testable extension's screen at the
     reference (which decided the ones fitted)."""
 
@@ -117,8 +117,8 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
 
     cal = [data.trials[i] for i in split.calibration]
     n_eff_cal = sum(noise[i].n_eff for i in split.calibration)  # the fits minimise the calibration chi-square
-    _say(progress, "reference: Module 2 and Umax refitted on every calibration trial (what each candidate is judged "
-                   "against)")
+    _say(progress, "reference: Module 2, Umax and tau2 refitted on every calibration trial (what each candidate is "
+                   "judged against)")
     reference = fit_reference(baseline.parameters, cal, trials, baseline.options, pool=pool, noise=noise)
     _say(progress, f"screening {len(testable)} testable extensions: linearised gain at the reference")
     screens = screen(testable, reference.parameters, reference.simulated, cal, measured, noise, baseline.options,

@@ -116,10 +116,11 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
                      "stages": [{"stage": s.stage, "values": s.values, "skipped": s.skipped, "data": s.trials,
                                  "notes": s.notes} for s in d.baseline.stages]},
         "reference": {
-            "what": "the baseline with Module 2 and Umax refitted on every calibration trial; the candidates' held-out "
-                    "NRMSE before and gains are measured against it",
+            "what": "the baseline with Module 2, Umax and tau2 refitted on every calibration trial; the candidates' "
+                    "held-out NRMSE before and gains are measured against it",
             "module2": {k: d.reference.fit.estimates[k] for k in MODULE2_FREE},
             "Umax_M_per_ms": d.reference.fit.estimates.get("Umax"),
+            "tau2_ms": d.reference.fit.estimates.get("tau2"),
             "nrmse": {i: nrmse_percent(t.force, d.reference.simulated[i]) for i, t in d.data.trials.items()}},
         "final": {"nrmse": {i: nrmse_percent(t.force, final[i]) for i, t in d.data.trials.items()}},
         "split": d.split.to_json(),

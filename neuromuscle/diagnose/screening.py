@@ -7,13 +7,14 @@ stop 21, and in suite seed 1 it left the hidden cause unfitted in three of the e
 (length-dependent activation, relaxation rate, post-activation potentiation): a cause's residual need not follow
 the one variable named for it, and the baseline's residual is not the reference's.
 
-Here each candidate is asked what it could do, in the model itself: at the reference (Module 2 and Module 1's pump
-rate Umax refitted on every calibration trial, the point every candidate's fit starts from), every effect
-parameter (those with a neutral value) is moved by ``STEP_FRACTION`` of its range from neutral, the calibration
-trials are simulated once per move, and so are moves of what every candidate's fit refits (Module 2's C1, C2, C3,
-alpha, by ``MODULE2_STEP`` relative).  The finite differences give a Jacobian J = [J_m | J_e] of the residuals,
-whitened as the verdict's chi-square is (each trial's residual / noise sd x sqrt((1 - rho)/(1 + rho))).  The
-linearised gain is how much further the effect's columns lower the chi-square than Module 2's alone:
+Here each candidate is asked what it could do, in the model itself: at the reference (Module 2, Module 1's pump rate
+Umax and release decay tau2 refitted on every calibration trial, the point every candidate's fit starts from), every
+effect parameter (those with a neutral value) is moved by ``STEP_FRACTION`` of its range from neutral, the
+calibration trials are simulated once per move, and so are moves of what every candidate's fit refits (Module 2's
+C1, C2, C3, alpha and Module 1's tau2, by ``MODULE2_STEP`` relative).  The finite differences give a Jacobian
+J = [J_m | J_e] of the residuals, whitened as the verdict's chi-square is (each trial's residual / noise sd x
+sqrt((1 - rho)/(1 + rho))).  The linearised gain is how much further the effect's columns lower the chi-square than
+the refitted parameters' alone:
 
     gain = min_dm |r + J_m dm|^2 - min_(dm, de) |r + J_m dm + J_e de|^2,   de within [lower, upper] - neutral
 
@@ -45,7 +46,7 @@ from .residuals import Noise
 
 #: The move of an effect parameter from neutral, as a fraction of its range (a secant: effects are not linear).
 STEP_FRACTION = 0.1
-#: The relative move of Module 2's C1, C2, C3, alpha.
+#: The relative move of what every candidate refits (extension_fit.REFITTED: Module 2's C1, C2, C3, alpha, tau2).
 MODULE2_STEP = 0.02
 
 
@@ -86,8 +87,8 @@ def _sims(runs: Sequence[tuple[ParameterSet, tuple[str, ...]]], trials: Sequence
 
 
 def _step_within(name: str, value: float) -> float:
-    """Module 2's move of ``name`` from ``value``: MODULE2_STEP relative, downwards where upwards would leave the
-    parameter's range (a fit can end on its bound: suite seed 1's fatigue case had alpha at 8)."""
+    """The move of refitted parameter ``name`` from ``value``: MODULE2_STEP relative, downwards where upwards
+    would leave the parameter's range (a fit can end on its bound: suite seed 1's fatigue case had alpha at 8)."""
     h = abs(value) * MODULE2_STEP if value != 0 else MODULE2_STEP
     return -h if value + h > SPECS[name].upper else h
 

@@ -31,9 +31,10 @@ passes when all of these hold:
    catalogue acts where the muscle is quiet, so a candidate that leaves such trends may owe its gain to the
    out-of-catalogue structure it absorbed elsewhere.
 
-SSE0 is the *reference*'s: the baseline with Module 2 and Umax refitted on every calibration trial; each
-candidate's fit starts there and refits Module 2 beside the extension's parameters, so the gain is the extension's
-alone (a model containing the reference, fitted on the same trials), not that of a recalibration on more trials.
+SSE0 is the *reference*'s: the baseline with Module 2, Umax and tau2 refitted on every calibration trial; each
+candidate's fit starts there and refits Module 2 and tau2 beside the extension's parameters, so the gain is the
+extension's alone (a model containing the reference, fitted on the same trials), not that of a recalibration on more
+trials.
 
 The verdict is the passing candidate with the largest dX2.  With none, the verdict is "unexplained" when
 structure beyond noise remains that calibration cannot remove, in at least max(``MIN_STRUCTURED_TRIALS`` = 3,

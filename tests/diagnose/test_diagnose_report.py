@@ -23,6 +23,7 @@ def test_diagnosis_json_schema(null_files):
     ref = doc["reference"]  # what the candidates are judged against: Module 2 and the pump refitted
     assert set(ref["module2"]) == {"C1", "C2", "C3", "alpha"}
     assert 200.0 <= ref["Umax_M_per_ms"] <= 20000.0
+    assert 2.5 <= ref["tau2_ms"] <= 250.0
     for c in doc["causes"]:
         assert {"name", "evidence", "parameters", "nrmse_heldout_before", "nrmse_heldout_after"} <= set(c)
         assert isinstance(c["nrmse_heldout_before"], float) and isinstance(c["nrmse_heldout_after"], float)
