@@ -11,7 +11,7 @@ Here each candidate is asked what it could do, in the model itself: at the refer
 Umax and release decay tau2 refitted on every calibration trial, the point every candidate's fit starts from), every
 effect parameter (those with a neutral value) is moved by ``STEP_FRACTION`` of its range from neutral, the
 calibration trials are simulated once per move, and so are moves of what every candidate's fit refits (Module 2's
-C1, C2, C3, alpha and Module 1's tau2, by ``MODULE2_STEP`` relative).  The finite differences give a Jacobian
+C1, C2, C3, alpha and Module 1's tau2, by ``REFITTED_STEP`` relative).  The finite differences give a Jacobian
 J = [J_m | J_e] of the residuals, whitened as the verdict's chi-square is (each trial's residual / noise sd x
 sqrt((1 - rho)/(1 + rho))).  The linearised gain is how much further the effect's columns lower the chi-square than
 the refitted parameters' alone:
@@ -47,7 +47,7 @@ from .residuals import Noise
 #: The move of an effect parameter from neutral, as a fraction of its range (a secant: effects are not linear).
 STEP_FRACTION = 0.1
 #: The relative move of what every candidate refits (extension_fit.REFITTED: Module 2's C1, C2, C3, alpha, tau2).
-MODULE2_STEP = 0.02
+REFITTED_STEP = 0.02
 
 
 @dataclass(frozen=True)
@@ -87,9 +87,9 @@ def _sims(runs: Sequence[tuple[ParameterSet, tuple[str, ...]]], trials: Sequence
 
 
 def _step_within(name: str, value: float) -> float:
-    """The move of refitted parameter ``name`` from ``value``: MODULE2_STEP relative, downwards where upwards
+    """The move of refitted parameter ``name`` from ``value``: REFITTED_STEP relative, downwards where upwards
     would leave the parameter's range (a fit can end on its bound: suite seed 1's fatigue case had alpha at 8)."""
-    h = abs(value) * MODULE2_STEP if value != 0 else MODULE2_STEP
+    h = abs(value) * REFITTED_STEP if value != 0 else REFITTED_STEP
     return -h if value + h > SPECS[name].upper else h
 
 
@@ -110,7 +110,7 @@ def screen(names: Sequence[str], reference: ParameterSet, reference_sims: Mappin
     r = _whitened(reference_sims, measured, noise, ids)
     n_eff = max(sum(noise[i].n_eff for i in ids), 2.0)
 
-    m2 = [(n, _step_within(n, reference[n])) for n in REFITTED]
+    refit = [(n, _step_within(n, reference[n])) for n in REFITTED]
     known = registry()
     plans = []  # per candidate: the effect parameters' moves and the point they are moved from
     for name in names:
@@ -121,14 +121,14 @@ def screen(names: Sequence[str], reference: ParameterSet, reference_sims: Mappin
             h = STEP_FRACTION * (p.upper - p.lower)
             moves.append((ext.qualified(p.name), h if p.neutral + h <= p.upper else -h, p))
         plans.append((name, at, moves))
-    runs = [(reference.with_values({n: reference[n] + h}), ()) for n, h in m2]
+    runs = [(reference.with_values({n: reference[n] + h}), ()) for n, h in refit]
     runs += [(reference.with_values({**at, q: at[q] + h}), (name,)) for name, at, moves in plans for q, h, _ in moves]
     sims = iter(_sims(runs, calibration, options, pool))
 
     def column(h: float) -> np.ndarray:
         return (_whitened(next(sims), measured, noise, ids) - r) / h
 
-    Jm = np.column_stack([column(h) for _, h in m2])
+    Jm = np.column_stack([column(h) for _, h in refit])
     unbounded = np.full(Jm.shape[1], np.inf)
     base, _ = _min_sq(r, Jm, -unbounded, unbounded)
     out: dict[str, Screen] = {}

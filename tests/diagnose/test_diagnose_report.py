@@ -20,7 +20,7 @@ def test_diagnosis_json_schema(null_files):
     assert set(doc["split"]["calibration"]) | set(doc["split"]["heldout"]) == set(doc["baseline"]["nrmse"])
     assert not set(doc["split"]["calibration"]) & set(doc["split"]["heldout"])
     assert all(isinstance(v, float) for v in doc["baseline"]["nrmse"].values())
-    ref = doc["reference"]  # what the candidates are judged against: Module 2 and the pump refitted
+    ref = doc["reference"]  # what the candidates are judged against: Module 2, the pump and tau2 refitted
     assert set(ref["module2"]) == {"C1", "C2", "C3", "alpha"}
     assert 200.0 <= ref["Umax_M_per_ms"] <= 20000.0
     assert 2.5 <= ref["tau2_ms"] <= 250.0
