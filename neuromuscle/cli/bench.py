@@ -38,6 +38,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     help="with --suite: append each finished case to FILE as a JSON line")
     bd.add_argument("--first", type=int, default=1, metavar="K",
                     help="with --suite: start at case K (1-based, the order of the progress lines): resume a suite")
+    bd.add_argument("--separability", action="store_true",
+                    help="with --suite: instead of diagnosing, how far each case's hidden effect can be told from "
+                         "calibration, to first order at the truth (about 2 min a case)")
     bd.add_argument("--json", action="store_true")
     bd.set_defaults(func=run_diagnose)
     bi = bsub.add_parser("intervals", help="coverage of the fit's 95 %% intervals on SciPy reference data with "
@@ -133,12 +136,20 @@ def run_diagnose(args: argparse.Namespace) -> int:
 
         causes = [c.strip() for c in args.causes.split(",") if c.strip()] if args.causes else None
         suite_cases(args.suite, causes, args.seed)  # bad input refused before any work
+        if args.separability:
+            from ..bench.separability import run_separability, table_lines as separability_lines
+
+            rows = run_separability(args.suite, causes=causes, seed=args.seed, workers=args.workers,
+                                    first=args.first, journal=args.journal)
+            print(json.dumps([s.to_json() for s in rows], indent=2) if args.json else
+                  "\n".join(separability_lines(rows)))
+            return 0
         res = run_suite(args.suite, causes=causes, seed=args.seed, workers=args.workers, progress=True,
                         journal=args.journal, first=args.first)
         print(json.dumps(res, indent=2) if args.json else "\n".join(table_lines(res)))
         return 0
-    if args.causes is not None or args.journal is not None or args.first != 1:
-        raise InputError("--causes, --journal and --first need --suite")
+    if args.causes is not None or args.journal is not None or args.first != 1 or args.separability:
+        raise InputError("--causes, --journal, --first and --separability need --suite")
     _print(bench_diagnose(args.workers), args.json)
     return 0
 

@@ -75,8 +75,8 @@ def _whitened(sims: Mapping[str, np.ndarray], measured: Mapping[str, np.ndarray]
     return np.concatenate([(sims[i] - measured[i]) * math.sqrt(noise[i].chi2_weight) for i in ids])
 
 
-def _sims(runs: Sequence[tuple[ParameterSet, tuple[str, ...]]], trials: Sequence[Trial],
-          options: SimulationOptions, pool: TrialPool | None) -> list[dict[str, np.ndarray]]:
+def simulate_runs(runs: Sequence[tuple[ParameterSet, tuple[str, ...]]], trials: Sequence[Trial],
+                  options: SimulationOptions, pool: TrialPool | None) -> list[dict[str, np.ndarray]]:
     """Every trial's force under each (parameter set, extensions) run: one pool call when a pool is given, so the
     two workers stay busy to the end (longest trials first) rather than idling at the tail of ~20 small calls."""
     if pool is not None and runs:
@@ -123,7 +123,7 @@ def screen(names: Sequence[str], reference: ParameterSet, reference_sims: Mappin
         plans.append((name, at, moves))
     runs = [(reference.with_values({n: reference[n] + h}), ()) for n, h in refit]
     runs += [(reference.with_values({**at, q: at[q] + h}), (name,)) for name, at, moves in plans for q, h, _ in moves]
-    sims = iter(_sims(runs, calibration, options, pool))
+    sims = iter(simulate_runs(runs, calibration, options, pool))
 
     def column(h: float) -> np.ndarray:
         return (_whitened(next(sims), measured, noise, ids) - r) / h

@@ -1,0 +1,42 @@
+"""First-order separability of a hidden effect from calibration (neuromuscle.bench.separability)."""
+
+import numpy as np
+import pytest
+
+from neuromuscle.bench.separability import _residual_after, run_separability, separability, table_lines
+from neuromuscle.errors import InputError
+
+
+def test_a_residual_inside_the_columns_span_is_absorbed_whatever_their_scales():
+    rng = np.random.default_rng(0)
+    J = rng.normal(size=(200, 3)) * np.array([1e3, 1e-1, 1.0])  # Umax-like beside C1-like columns
+    inside = J @ np.array([2e-3, 5.0, -1.0])
+    assert np.linalg.norm(_residual_after(inside, J)) < 1e-9 * np.linalg.norm(inside)
+    outside = rng.normal(size=200)
+    left = _residual_after(outside, J)
+    assert 0.9 * float(outside @ outside) < float(left @ left) <= float(outside @ outside)  # 3 of 200 dimensions
+    assert abs(float(left @ J[:, 0])) < 1e-6 * np.linalg.norm(J[:, 0])
+
+
+def test_an_effect_absent_from_the_trials_is_exactly_zero_so_the_noise_cancels():
+    # force enhancement acts after active stretch: on isometric trials the two files differ by nothing at all
+    s = separability("force_enhancement_after_stretch", 0.8, 3, 1.5, trials=["twitch_opt", "train10_opt"])
+    assert s.chi2_effect == 0.0 and s.chi2_unabsorbed == 0.0 and s.chi2_with_extension == 0.0
+
+
+def test_the_late_pump_speed_up_is_left_by_the_refits_and_taken_by_the_relaxation_extension():
+    s = separability("relaxation_rate", 0.9, 5, 1.5, trials=["twitch_opt", "train3_opt", "train10_opt"])
+    assert s.chi2_effect > 100.0  # a visible effect ...
+    assert 0.0 < s.chi2_unabsorbed < s.chi2_effect  # ... that the refits absorb only in part ...
+    assert s.chi2_with_extension is not None and s.chi2_with_extension <= s.chi2_unabsorbed
+    assert s.captured is not None and s.captured > 0.5  # ... and the cause's extension takes most of the rest
+    assert set(s.extension_setting) == {"relaxation_rate.tau"}
+    assert list(s.trials) and all(e >= u >= 0.0 for e, u in s.trials.values())
+    assert table_lines([s])[-1].startswith("| relaxation_rate | 0.90 | 5 |")
+
+
+def test_bad_requests_are_refused_before_any_work():
+    with pytest.raises(InputError, match="not 'none'"):
+        separability("none", 0.5, 1, 1.5)
+    with pytest.raises(InputError, match="first case"):
+        run_separability(1, causes=["relaxation_rate"], first=2)
