@@ -20,7 +20,7 @@ chi2_unabsorbed near 0 says no method could name the cause from these trials at 
 chi2_unabsorbed that the extension captures, with the diagnosis still missing, points at the diagnosis (e.g. a
 nonlinear reference that reaches parameters far from the truth).  First order only: a calibration that moves a
 parameter far can absorb more.  Cost: 2 synthetic files and 1 + 6 + GRID_POINTS x (1 + effect parameters)
-simulations of the 28 trials, about 2 min a case on 2 cores.
+simulations of the 28 trials, about 1 min a case (measured with 1 worker).
 """
 
 from __future__ import annotations

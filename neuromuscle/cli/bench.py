@@ -40,7 +40,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     help="with --suite: start at case K (1-based, the order of the progress lines): resume a suite")
     bd.add_argument("--separability", action="store_true",
                     help="with --suite: instead of diagnosing, how far each case's hidden effect can be told from "
-                         "calibration, to first order at the truth (about 2 min a case)")
+                         "calibration, to first order at the truth (about 1 min a case)")
     bd.add_argument("--json", action="store_true")
     bd.set_defaults(func=run_diagnose)
     bi = bsub.add_parser("intervals", help="coverage of the fit's 95 %% intervals on SciPy reference data with "
