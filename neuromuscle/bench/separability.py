@@ -12,7 +12,7 @@ J_m holds the sensitivities of the forces, at the true parameters, to what the d
 * chi2_effect = |r|^2: what the effect adds if nothing were refitted;
 * chi2_unabsorbed = min |r - J_m c|^2: what no refit of those parameters absorbs (to first order);
 * chi2_with_extension = min |r - J_m c - J_e d|^2: also with the cause's catalogue extension's effect parameters
-  (their columns at neutral, a secant of 10 % of their range, as the screening moves them), at the best of
+  (their columns at neutral, moved as the screening moves them: ``screening.effect_moves``), at the best of
   ``GRID_POINTS`` values (log-spaced over its range) of the extension's first parameter without a neutral value
   (its time constant), the others at their defaults.
 
@@ -36,8 +36,6 @@ import numpy as np
 GRID_POINTS = 5
 #: Relative step of the refitted parameters.
 REFIT_STEP = 0.02
-#: Secant of an effect parameter from neutral, as a fraction of its range (screening.STEP_FRACTION).
-EFFECT_STEP = 0.1
 
 
 @dataclass(frozen=True)
@@ -83,7 +81,8 @@ def separability(cause: str, strength: float, seed: int, noise_pct: float, *, wo
     seed ``seed`` with noise ``noise_pct`` (% of P0); ``trials``: a subset of the standard protocol ids."""
     from ..diagnose.baseline import OPTIONS
     from ..diagnose.extension_fit import REFERENCE_FREE
-    from ..diagnose.screening import simulate_runs
+    from ..diagnose.residuals import Noise
+    from ..diagnose.screening import effect_moves, simulate_runs
     from ..errors import InputError
     from ..fit.evaluate import TrialPool
     from ..model.extensions import registry
@@ -98,10 +97,10 @@ def separability(cause: str, strength: float, seed: int, noise_pct: float, *, wo
     sd, tau = float(tr["noise_sd_N"]), float(tr["noise_tau_ms"])
     cases = list(null.trials.values())
     ids = [t.trial_id for t in cases]
-    weight = {}
+    weight = {}  # sqrt of the verdict's chi-square weight (1/N), from the generator's noise sd and correlation time
     for t in cases:
         rho = math.exp(-1000.0 * float(t.time_s[1] - t.time_s[0]) / tau)
-        weight[t.trial_id] = math.sqrt((1 - rho) / (1 + rho)) / sd
+        weight[t.trial_id] = math.sqrt(Noise(sd, rho, t.n_samples * (1 - rho) / (1 + rho)).chi2_weight)
     r = {i: (np.asarray(with_effect.trials[i].force) - np.asarray(null.trials[i].force)) * weight[i] for i in ids}
 
     steps = [(n, abs(P[n]) * REFIT_STEP) for n in REFERENCE_FREE]
@@ -114,9 +113,8 @@ def separability(cause: str, strength: float, seed: int, noise_pct: float, *, wo
         timing = [p for p in ext.parameters if p.neutral is None and p.lower > 0]
         grid = ([{ext.qualified(timing[0].name): float(v)}
                  for v in np.geomspace(timing[0].lower, timing[0].upper, GRID_POINTS)] if timing else [{}])
-        for p in (p for p in ext.parameters if p.neutral is not None):
-            h = EFFECT_STEP * (p.upper - p.lower)
-            moves.append((ext.qualified(p.name), h if p.neutral + h <= p.upper else -h))
+        moves = [(q, h) for q, h, _ in effect_moves(ext)]
+        grid = grid if moves else []  # an extension without an effect parameter has nothing to move
         for g in grid:
             at = {**neutral, **g}
             runs.append((P.with_values(at), (cause,)))
@@ -135,9 +133,8 @@ def separability(cause: str, strength: float, seed: int, noise_pct: float, *, wo
     best: tuple[float, dict[str, float]] | None = None
     at = 1 + len(steps)
     for g in grid:
-        base, k = sims[at], len(moves)
-        Je = np.column_stack([column(sims[at + 1 + j], base, h) for j, (_, h) in enumerate(moves)])
-        at += 1 + k
+        Je = np.column_stack([column(sims[at + 1 + j], sims[at], h) for j, (_, h) in enumerate(moves)])
+        at += 1 + len(moves)
         e2 = _residual_after(rv, np.hstack([Jm, Je]))
         if best is None or float(e2 @ e2) < best[0]:
             best = (float(e2 @ e2), g)

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Mapping, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 from scipy.optimize import lsq_linear
@@ -93,6 +93,17 @@ def _step_within(name: str, value: float) -> float:
     return -h if value + h > SPECS[name].upper else h
 
 
+def effect_moves(ext) -> list[tuple[str, float, Any]]:
+    """Each effect parameter of extension ``ext`` (one with a neutral value): its qualified name, its move from
+    neutral (``STEP_FRACTION`` of its range, in its own units; downwards where upwards would leave the range) and
+    its ``Param``."""
+    out = []
+    for p in (p for p in ext.parameters if p.neutral is not None):
+        h = STEP_FRACTION * (p.upper - p.lower)
+        out.append((ext.qualified(p.name), h if p.neutral + h <= p.upper else -h, p))
+    return out
+
+
 def _min_sq(r: np.ndarray, J: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> tuple[float, np.ndarray]:
     """min |r + J d|^2 over lower <= d <= upper, and the d that attains it."""
     if J.shape[1] == 0:
@@ -116,11 +127,7 @@ def screen(names: Sequence[str], reference: ParameterSet, reference_sims: Mappin
     for name in names:
         ext = known[name]
         at = {ext.qualified(p.name): (p.neutral if p.neutral is not None else p.default) for p in ext.parameters}
-        moves = []
-        for p in (p for p in ext.parameters if p.neutral is not None):
-            h = STEP_FRACTION * (p.upper - p.lower)
-            moves.append((ext.qualified(p.name), h if p.neutral + h <= p.upper else -h, p))
-        plans.append((name, at, moves))
+        plans.append((name, at, effect_moves(ext)))
     runs = [(reference.with_values({n: reference[n] + h}), ()) for n, h in refit]
     runs += [(reference.with_values({**at, q: at[q] + h}), (name,)) for name, at, moves in plans for q, h, _ in moves]
     sims = iter(simulate_runs(runs, calibration, options, pool))
