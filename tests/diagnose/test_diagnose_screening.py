@@ -76,3 +76,53 @@ def test_one_pool_call_screens_as_the_serial_runs(setting):
         pooled = screen(names, ref, ref_sims, trials, measured, noise, OPTIONS, pool=pool)
     assert {n: pooled[n].to_json() for n in names} == {n: serial[n].to_json() for n in names}
     assert serial["staircase"].gain > 0.0
+
+
+def test_time_constants_are_tried_at_their_defaults_then_at_every_combination_of_two_quantiles():
+    from neuromuscle.diagnose.screening import GRID_QUANTILES, time_constant_settings
+    from neuromuscle.model.extensions import registry
+
+    known = registry()
+    doublet = time_constant_settings(known["doublet_potentiation"])
+    assert doublet[0] == {} and len(doublet) == 1 + len(GRID_QUANTILES) ** 2
+    spec = {known["doublet_potentiation"].qualified(p.name): p for p in known["doublet_potentiation"].parameters}
+    assert all(spec[q].lower < v < spec[q].upper for s in doublet[1:] for q, v in s.items())
+    assert min(s["doublet_potentiation.tau_f"] for s in doublet[1:]) < 4.0  # where suite seed 3's doublet was found
+    assert time_constant_settings(known["length_dependent_activation"]) == [{}]  # no time constant: defaults only
+
+
+def test_an_effect_far_from_its_default_time_constants_is_found_on_the_grid(setting):
+    """A doublet potentiation with a fast facilitation and a slow hold (tau_f 3.8, tau_h 300 ms; defaults 8 and
+    25 ms, where suite seed 3's fit ended) gains far more at a grid setting than at the defaults, and the screen
+    says which setting it was."""
+    from neuromuscle.diagnose.screening import screen_settings
+
+    trials, ref, ref_sims = setting
+    truth = ref.with_values({"doublet_potentiation.k": 2.0, "doublet_potentiation.tau_f": 3.8,
+                             "doublet_potentiation.tau_h": 300.0})
+    measured = _measured(trials, simulate_all(truth, trials, OPTIONS, ("doublet_potentiation",)), 5)
+    noise = _noise(trials, measured)
+    every = screen_settings(["doublet_potentiation"], ref, ref_sims, trials, measured, noise, OPTIONS)
+    at_defaults = next(s for s in every if not s.time_constants)
+    best = screen(["doublet_potentiation"], ref, ref_sims, trials, measured, noise, OPTIONS)["doublet_potentiation"]
+    assert best.time_constants, (at_defaults.gain, best.gain)
+    assert best.time_constants["doublet_potentiation.tau_h"] > 100.0
+    assert best.gain > 2.0 * at_defaults.gain and best.score > 0.0
+
+
+def test_coarse_columns_screen_as_the_diagnosis_step(setting):
+    """The Jacobian's columns are differences of simulations at COLUMN_DT_MS against the reference at the same
+    step: the step's error cancels, and every gain is within 2 % of the columns at the diagnosis's own step."""
+    from neuromuscle.diagnose.screening import COLUMN_DT_MS, screen_settings
+
+    trials, ref, ref_sims = setting
+    assert COLUMN_DT_MS > OPTIONS.dt_ms
+    truth = ref.with_values({"staircase.k": 0.4, "staircase.u": 0.1, "staircase.tau": 3000.0})
+    measured = _measured(trials, simulate_all(truth, trials, OPTIONS, ("staircase",)), 6)
+    noise = _noise(trials, measured)
+    coarse = screen_settings(NAMES, ref, ref_sims, trials, measured, noise, OPTIONS)
+    fine = screen_settings(NAMES, ref, ref_sims, trials, measured, noise, OPTIONS, column_dt_ms=None)
+    assert [(s.name, s.time_constants) for s in coarse] == [(s.name, s.time_constants) for s in fine]
+    big = max(s.gain for s in fine)
+    for c, f in zip(coarse, fine):
+        assert abs(c.gain - f.gain) <= 0.02 * max(f.gain, 0.05 * big), (c.name, c.time_constants, c.gain, f.gain)
