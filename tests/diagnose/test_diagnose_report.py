@@ -29,6 +29,9 @@ def test_diagnosis_json_schema(null_files):
         assert isinstance(c["nrmse_heldout_before"], float) and isinstance(c["nrmse_heldout_after"], float)
         for p in c["parameters"].values():
             assert p["ci95"][0] <= p["value"] <= p["ci95"][1]
+    screened = [r["screening"] for r in doc["ranking"] if "screening" in r]
+    assert screened  # where on the time-constant grid each screen was best ({}: the defaults)
+    assert all(isinstance(v, float) for s in screened for v in s["time_constants"].values())
     names = [c["name"] for c in doc["causes"]] + [u["name"] for u in doc["untestable"]]
     assert sorted(names) == sorted(c.name for c in CAUSES)
     assert "staircase" in [u["name"] for u in doc["untestable"]]  # no train of >= 5 stimuli at <= 15 Hz
