@@ -92,9 +92,9 @@ def _cause_entries(d: Diagnosis) -> list[dict[str, Any]]:
     for c in d.candidates:
         if c.untestable is None and c.cause.name not in d.fits:
             sc = d.screens.get(c.cause.name)
-            at = "".join(f", {q.split('.')[-1]} {v:.3g}" for q, v in (sc.time_constants if sc else {}).items())
+            at = ", ".join(f"{q.split('.')[-1]} {v:.3g}" for q, v in (sc.time_constants if sc else {}).items())
             why = ("no extension in the catalogue" if sc is None else
-                   f"linearised chi2 gain at the reference {sc.gain:.4g}{' (at' + at[1:] + ')' if at else ''} " +
+                   f"linearised chi2 gain at the reference {sc.gain:.4g}{f' (at {at})' if at else ''} " +
                    (f"<= its BIC penalty {sc.penalty:.3g}" if sc.score <= 0 else "below the fitted ones'"))
             entries.append({"name": c.cause.name, "fitted": False, "parameters": {},
                             "evidence": f"testable but not fitted ({why}); residual score {c.score:.3g}",
