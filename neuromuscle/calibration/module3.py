@@ -74,6 +74,16 @@ def calibrate_kse(step_trial: Trial, P0: float, *, pre_ms: float = 5.0, post_ms:
                        ["direct estimate (seed 2.2.2); CE shortening during a finite ramp biases it low"])
 
 
+def kse_from_steps(steps: Sequence[Trial], P0: float) -> StageResult:
+    """The KSE stage (1/mm) from one or more step-shortening trials at P0 (N): :func:`calibrate_kse` of each, the
+    mean, and the spread between trials."""
+    rs = [calibrate_kse(t, P0) for t in steps]
+    values = [r.values["KSE"] for r in rs]
+    return StageResult("KSE", {"KSE": float(np.mean(values))},
+                       {**rs[0].errors, "n_trials": float(len(rs)), "spread": float(np.ptp(values))},
+                       [t.trial_id for t in steps], rs[0].notes + (["mean over trials"] if len(rs) > 1 else []))
+
+
 def calibrate_force_length(lengths_mm: Sequence[float], forces_N: Sequence[float], *,
                            fix_P0: float | None = None) -> StageResult:
     """g1 (mm, optimum), g2 (mm, Gaussian width) and P0 (N) by least squares on isometric force-length points

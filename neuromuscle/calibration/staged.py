@@ -28,7 +28,7 @@ from ..measured import MeasuredData
 from ..parameters import ParameterSet
 from .length_compensation import calibrate_length_compensation, twitch_trials
 from .module2 import MODULE2_FREE, calibrate_module2, module2_trials
-from .module3 import calibrate_force_length, calibrate_force_velocity, calibrate_kse
+from .module3 import calibrate_force_length, calibrate_force_velocity, kse_from_steps
 from .stage import StageResult
 from .trials import in_model_units, isometric_length
 
@@ -92,12 +92,8 @@ def staged_calibration(data: MeasuredData, base_params: ParameterSet, *, module2
     if not steps:
         stages.append(StageResult("KSE", skipped="no step-shortening trial (protocol 'step' with a length trace)"))
     else:
-        rs = [calibrate_kse(t, params["P0"]) for t in steps]
-        kse = float(np.mean([r.values["KSE"] for r in rs]))
-        r = StageResult("KSE", {"KSE": kse}, {**rs[0].errors, "n_trials": float(len(rs)),
-                                              "spread": float(np.ptp([r.values["KSE"] for r in rs]))},
-                        [t.trial_id for t in steps], rs[0].notes + (["mean over trials"] if len(rs) > 1 else []))
-        params = params.with_values(KSE=kse)
+        r = kse_from_steps(steps, params["P0"])
+        params = params.with_values(**r.values)
         stages.append(r)
     m2 = module2_trials(data, params["g1"])
     if not m2:

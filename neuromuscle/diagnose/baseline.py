@@ -13,7 +13,14 @@ calibration trials of any train length calibrate instead, and only step 2 runs (
 twitches or sub-tetanic trains; at one rate, Module 2's rate dependence is not identified, only the time course
 of the tetanus' rise and fall and, with P0, its plateau).  Moving trials never calibrate the baseline: a
 force-velocity or series-elastic fit to stretch-hold trials would absorb history effects (a steep eccentric
-branch holds force after a stretch).
+branch holds force after a stretch).  The one exception is a quick step shortening (protocol "step", a length
+trace), the seed's measurement of the series-elastic stiffness: KSE = force drop / step / P0 (seed 2.2.2,
+:func:`neuromuscle.calibration.module3.calibrate_kse`), read within 5 ms of the step, before any history effect
+can act.  Until stop 28 the step trial was filtered out with the other moving trials, so KSE stayed at the base
+set's 0.4 /mm whatever the preparation (synth draws 0.25-0.65 /mm): suite seed 1's relaxation preparation (KSE
+0.563): with KSE calibrated, the reference's chi-square above noise on its calibration trials fell from
+8.9e3 to 2.3e3 noise variances (held out: 6.3e3 to 1.9e3), most of it in the moving trials.  After the
+refinement moves P0, KSE is rescaled so that P0 x KSE, the stiffness the step measured (N/mm), is kept.
 
 1. the seed's staged calibration (Module 3 from force-length / force-velocity points and a step when the file
    has them; Module 2 (C1, C2, C3, alpha) on isometric trials at the optimum; the eq 18 stage off).  When no
@@ -42,7 +49,8 @@ import numpy as np
 from ..analysis.metrics import nrmse_percent
 from ..calibration import MODULE2_FREE, StageResult, calibrate_module2, staged_calibration
 from ..calibration.staged import FORCE_LENGTH_PATH
-from ..calibration.trials import OPTIMUM_TOLERANCE_MM, isometric_length
+from ..calibration.module3 import kse_from_steps
+from ..calibration.trials import OPTIMUM_TOLERANCE_MM, in_model_units, isometric_length
 from ..errors import InputError, NumericalError
 from ..fit import FitProblem, SimulationOptions, fit, trial_simulation
 from ..fit.evaluate import TrialPool
@@ -131,6 +139,13 @@ def baseline_trials(data: MeasuredData, calibration: Sequence[str]) -> tuple[str
                      f"length): the baseline cannot be calibrated (calibration trials: {', '.join(calibration)})")
 
 
+def step_trials(data: MeasuredData, calibration: Sequence[str]) -> list[str]:
+    """The calibration trials that measure the series-elastic stiffness: protocol "step" with a length trace, in
+    N and mm (the staged calibration's KSE stage reads them)."""
+    return [i for i in calibration if data.trials[i].protocol == "step" and data.trials[i].length is not None
+            and in_model_units(data.trials[i])]
+
+
 def _isometric(trials: Sequence[Trial]) -> dict[float, list[Trial]]:
     """Isometric trials grouped by length (mm): lengths within OPTIMUM_TOLERANCE_MM of a group's first (shortest)
     length are one length (measured lengths scatter by the transducer's noise)."""
@@ -164,20 +179,28 @@ def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: Par
     ``data``.  pool: a :class:`~neuromuscle.fit.evaluate.TrialPool` of ``data``'s trials for every fit and
     simulation, instead of ``workers`` processes per fit."""
     kind, ids = baseline_trials(data, calibration)
+    steps = step_trials(data, calibration)
     cal = _subset(data, ids)
     calibration = list(cal.trials)
     by_length = _isometric(list(cal.trials.values()))
     if kind == "seed":
-        _say(progress, f"baseline: staged calibration on {len(calibration)} trials")
-        staged = staged_calibration(cal, base, options=options, workers=workers, max_iterations=max_iterations,
-                                    progress=False, name=f"{base.name}-baseline", length_compensation=False,
-                                    pool=pool)
+        _say(progress, f"baseline: staged calibration on {len(calibration)} trials"
+                       + (f" (KSE from {', '.join(steps)})" if steps else ""))
+        # the step trials reach only the KSE stage: Module 2's and the length stage's trials are isometric
+        staged = staged_calibration(_subset(data, ids + steps), base, options=options, workers=workers,
+                                    max_iterations=max_iterations, progress=False, name=f"{base.name}-baseline",
+                                    length_compensation=False, pool=pool)
         params, stages = staged.parameters, list(staged.stages)
     else:
         params = base
         stages = [StageResult("module2", skipped=(
             f"no isometric twitch or train of <= {MAX_TRAIN_S} s: the seed's Module 2 stage cannot run; Module 2 "
             "is refined jointly with P0 on the isometric tetani (one rate: its rate dependence is not identified)"))]
+        if steps:
+            stages.append(kse_from_steps([data.trials[i] for i in steps], params["P0"]))
+            params = params.with_values(**stages[-1].values)
+    kse = next((s for s in stages if s.stage == "KSE" and not s.skipped), None)
+    p0_at_kse = params["P0"]
     m2 = next(s for s in stages if s.stage == "module2")
     if kind == "seed" and m2.skipped:
         x_ref = max(by_length, key=lambda x: (len(by_length[x]), -abs(x - params["g1"])))
@@ -209,6 +232,10 @@ def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: Par
     params = starts[how].with_values(**res.estimates)
     notes = [f"from {how} (cost {', '.join(f'{r.cost:.4g} from {h}' for h, r in results.items())}): "
              f"{res.n_iterations} iterations, {res.n_simulations} simulations: {res.message}"]
+    if kse is not None and params["P0"] != p0_at_kse:  # keep the stiffness the step measured, P0 x KSE (N/mm)
+        params = params.with_values(KSE=params["KSE"] * p0_at_kse / params["P0"])
+        notes.append(f"KSE rescaled by P0 {p0_at_kse:.4g} -> {params['P0']:.4g} N (P0 x KSE, the step's "
+                     f"stiffness, kept): {params['KSE']:.4g} /mm")
     stages.append(StageResult("refinement", dict(res.estimates),
                               {f"nrmse_{k}": v for k, v in res.nrmse_percent.items()}, [t.trial_id for t in trials],
                               notes, fit=res))
