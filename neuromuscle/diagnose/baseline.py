@@ -17,9 +17,9 @@ branch holds force after a stretch).  The one exception is a quick step shorteni
 trace), the seed's measurement of the series-elastic stiffness: KSE = force drop / step / P0 (seed 2.2.2,
 :func:`neuromuscle.calibration.module3.calibrate_kse`), read within 5 ms of the step, before any history effect
 can act.  Until stop 28 the step trial was filtered out with the other moving trials, so KSE stayed at the base
-set's 0.4 /mm whatever the preparation (synth draws 0.25-0.65 /mm): suite seed 1's relaxation preparation (KSE
-0.563): with KSE calibrated, the reference's chi-square above noise on its calibration trials fell from
-8.9e3 to 2.3e3 noise variances (held out: 6.3e3 to 1.9e3), most of it in the moving trials.  After the
+set's 0.4 /mm whatever the preparation (synth draws 0.25-0.65 /mm).  In suite seed 1's relaxation preparation
+(KSE 0.563 /mm), calibrating KSE lowers the reference's chi-square above noise from 8.9e3 to 2.3e3 noise variances
+on its calibration trials and from 6.3e3 to 1.9e3 on the held-out ones, most of it in the moving trials.  After the
 refinement moves P0, KSE is rescaled so that P0 x KSE, the stiffness the step measured (N/mm), is kept.
 
 1. the seed's staged calibration (Module 3 from force-length / force-velocity points and a step when the file

@@ -4,7 +4,9 @@ trial when it calibrates (until stop 28 the step was filtered out with the movin
 
 import pytest
 
+from neuromuscle.calibration.staged import FORCE_LENGTH_PATH
 from neuromuscle.diagnose.baseline import calibrate_baseline, step_trials
+from neuromuscle.measured import MeasuredData
 from neuromuscle.parameters import load_parameters
 from neuromuscle.synth import make_dataset, truth, without_truth
 
@@ -40,3 +42,18 @@ def test_a_held_out_step_does_not_calibrate(stiff_preparation):
     base = calibrate_baseline(data, calibration, ct09, workers=2)
     assert next(s for s in base.stages if s.stage == "KSE").skipped
     assert base.parameters["KSE"] == ct09["KSE"]
+
+
+def test_kse_keeps_the_steps_stiffness_when_p0_is_refined(stiff_preparation):
+    """Without force-length points the refinement fits P0 after the KSE stage: KSE is rescaled so that P0 x KSE,
+    the stiffness (N/mm) the step measured, is what the stage found."""
+    data, _ = stiff_preparation
+    no_points = MeasuredData(trials=data.trials, attrs=data.attrs, path=data.path,
+                             extra_datasets={k: v for k, v in data.extra_datasets.items() if k != FORCE_LENGTH_PATH},
+                             extra_attrs=data.extra_attrs)
+    ct09 = load_parameters("CT09")
+    base = calibrate_baseline(no_points, list(data.trials), ct09, workers=2)
+    stage = next(s for s in base.stages if s.stage == "KSE")
+    assert base.parameters["P0"] != pytest.approx(ct09["P0"], rel=1e-3)  # P0 was refined
+    assert base.parameters["P0"] * base.parameters["KSE"] == pytest.approx(ct09["P0"] * stage.values["KSE"],
+                                                                            rel=1e-12)
