@@ -30,7 +30,7 @@ from .length_compensation import calibrate_length_compensation, twitch_trials
 from .module2 import MODULE2_FREE, calibrate_module2, module2_trials
 from .module3 import calibrate_force_length, calibrate_force_velocity, kse_from_steps
 from .stage import StageResult
-from .trials import in_model_units, isometric_length
+from .trials import is_step_trial, isometric_length
 
 FORCE_LENGTH_PATH = "/calibration/force_length"
 FORCE_VELOCITY_PATH = "/calibration/force_velocity"
@@ -88,7 +88,7 @@ def staged_calibration(data: MeasuredData, base_params: ParameterSet, *, module2
         r = calibrate_force_velocity(fv[:, 0], fv[:, 1], params["P0"])
         params = params.with_values(**r.values)
         stages.append(r)
-    steps = [t for t in data.trials.values() if t.protocol == "step" and t.length is not None and in_model_units(t)]
+    steps = [t for t in data.trials.values() if is_step_trial(t)]
     if not steps:
         stages.append(StageResult("KSE", skipped="no step-shortening trial (protocol 'step' with a length trace)"))
     else:

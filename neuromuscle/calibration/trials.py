@@ -26,6 +26,11 @@ def in_model_units(trial: Trial) -> bool:
     return trial.force_unit == "N" and trial.length_unit == "mm"
 
 
+def is_step_trial(trial: Trial) -> bool:
+    """A step-shortening trial that measures KSE: protocol "step", a sampled length (mm) and force in N."""
+    return trial.protocol == "step" and trial.length is not None and in_model_units(trial)
+
+
 def all_trials(data: MeasuredData | Sequence[Trial]) -> list[Trial]:
     """The trials of a data file, or the given trials."""
     return list(data.trials.values()) if isinstance(data, MeasuredData) else list(data)

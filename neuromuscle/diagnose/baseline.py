@@ -50,7 +50,7 @@ from ..analysis.metrics import nrmse_percent
 from ..calibration import MODULE2_FREE, StageResult, calibrate_module2, staged_calibration
 from ..calibration.staged import FORCE_LENGTH_PATH
 from ..calibration.module3 import kse_from_steps
-from ..calibration.trials import OPTIMUM_TOLERANCE_MM, in_model_units, isometric_length
+from ..calibration.trials import OPTIMUM_TOLERANCE_MM, is_step_trial, isometric_length
 from ..errors import InputError, NumericalError
 from ..fit import FitProblem, SimulationOptions, fit, trial_simulation
 from ..fit.evaluate import TrialPool
@@ -142,8 +142,7 @@ def baseline_trials(data: MeasuredData, calibration: Sequence[str]) -> tuple[str
 def step_trials(data: MeasuredData, calibration: Sequence[str]) -> list[str]:
     """The calibration trials that measure the series-elastic stiffness: protocol "step" with a length trace, in
     N and mm (the staged calibration's KSE stage reads them)."""
-    return [i for i in calibration if data.trials[i].protocol == "step" and data.trials[i].length is not None
-            and in_model_units(data.trials[i])]
+    return [i for i in calibration if is_step_trial(data.trials[i])]
 
 
 def _isometric(trials: Sequence[Trial]) -> dict[float, list[Trial]]:
@@ -199,7 +198,7 @@ def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: Par
         if steps:
             stages.append(kse_from_steps([data.trials[i] for i in steps], params["P0"]))
             params = params.with_values(**stages[-1].values)
-    kse = next((s for s in stages if s.stage == "KSE" and not s.skipped), None)
+    kse_calibrated = any(s.stage == "KSE" and not s.skipped for s in stages)
     p0_at_kse = params["P0"]
     m2 = next(s for s in stages if s.stage == "module2")
     if kind == "seed" and m2.skipped:
@@ -232,7 +231,7 @@ def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: Par
     params = starts[how].with_values(**res.estimates)
     notes = [f"from {how} (cost {', '.join(f'{r.cost:.4g} from {h}' for h, r in results.items())}): "
              f"{res.n_iterations} iterations, {res.n_simulations} simulations: {res.message}"]
-    if kse is not None and params["P0"] != p0_at_kse:  # keep the stiffness the step measured, P0 x KSE (N/mm)
+    if kse_calibrated and params["P0"] != p0_at_kse:  # keep the stiffness the step measured, P0 x KSE (N/mm)
         params = params.with_values(KSE=params["KSE"] * p0_at_kse / params["P0"])
         notes.append(f"KSE rescaled by P0 {p0_at_kse:.4g} -> {params['P0']:.4g} N (P0 x KSE, the step's "
                      f"stiffness, kept): {params['KSE']:.4g} /mm")
