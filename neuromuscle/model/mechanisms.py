@@ -58,6 +58,8 @@ def mod_files() -> list[Path]:
 
 
 _HASHES: dict[tuple[tuple[str, int, int], ...], str] = {}
+#: The mechanism hash of the library this process loaded (None until :func:`load_mechanisms` loads one).
+_LOADED: str | None = None
 
 
 def mechanism_hash() -> str:
@@ -123,10 +125,24 @@ def _run_with_progress(cmd: list[str], cwd: Path, every_s: float = 10.0) -> subp
     return subprocess.CompletedProcess(cmd, p.returncode, out, err)
 
 
+def loaded_mechanism_hash() -> str:
+    """The hash of the mechanisms this process runs: of the mod files the loaded library was compiled from (a
+    library loaded once cannot change within the process, even if the files are edited afterwards), else of the
+    mod files now (:func:`mechanism_hash`; e.g. mechanisms loaded by the user from their own build).  Every
+    simulation's provenance asks, so it does not read the file system once a library is loaded (globbing and
+    stat-ing the mod files took ~1.8 ms, 9 % of a 0.5 s twitch simulated at 0.1 ms)."""
+    return _LOADED if _LOADED is not None else mechanism_hash()
+
+
 def compiled_library() -> Path:
     """Path of ``libnrnmech.so`` for the current mod files, compiling it into the cache if needed."""
+    return _compiled_library(mechanism_hash())
+
+
+def _compiled_library(digest: str) -> Path:
+    """:func:`compiled_library` for the mod files of hash ``digest``."""
     flags = hashlib.sha256(COMPILE_FLAGS.encode()).hexdigest()[:6]
-    key = f"{mechanism_hash()[:16]}-nrn{_neuron_version()}-{platform.machine()}-f{flags}"
+    key = f"{digest[:16]}-nrn{_neuron_version()}-{platform.machine()}-f{flags}"
     target = cache_root() / key
     lib = _library_in(target)
     if lib is not None:
@@ -166,6 +182,9 @@ def load_mechanisms() -> None:
         raise MechanismBuildError(
             f"NEURON already holds some neuromuscle mechanisms but not {missing}: an old compiled copy "
             "(e.g. an x86_64/ folder in the working directory) is loaded; remove it or recompile mod/")
-    lib = compiled_library()
+    global _LOADED
+    digest = mechanism_hash()
+    lib = _compiled_library(digest)
     if not h.nrn_load_dll(str(lib)):
         raise MechanismBuildError(f"NEURON could not load {lib}")
+    _LOADED = digest

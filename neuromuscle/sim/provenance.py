@@ -31,7 +31,7 @@ def versions() -> dict[str, str]:
 
 def provenance(**extra: Any) -> dict[str, Any]:
     """A provenance record: versions, mechanism hash, UTC time, plus the caller's fields (protocol, seeds...)."""
-    from ..model.mechanisms import COMPILE_FLAGS, mechanism_hash
+    from ..model.mechanisms import COMPILE_FLAGS, loaded_mechanism_hash
 
-    return {"versions": versions(), "mechanism_sha256": mechanism_hash(), "mechanism_flags": COMPILE_FLAGS,
+    return {"versions": versions(), "mechanism_sha256": loaded_mechanism_hash(), "mechanism_flags": COMPILE_FLAGS,
             "created_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"), **extra}

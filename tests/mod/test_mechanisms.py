@@ -65,3 +65,20 @@ def test_nrnivmodl_on_mod_folder_works_for_hoc_users(tmp_path, ct09):
 
     expected = simulate(ct09, [100.0], -8.0, 300.0).force_N.max()
     assert peak and abs(peak[0] / expected - 1) < 0.002, out.stdout + out.stderr
+
+
+def test_provenance_names_the_loaded_library_not_the_files_edited_since(tmp_path, monkeypatch):
+    """A loaded library cannot change within a process: provenance keeps its hash when the mod files are edited
+    afterwards (and reads no file to give it)."""
+    from neuromuscle import simulate
+    from neuromuscle.parameters import load_parameters
+
+    r = simulate(load_parameters("CT09"), [10.0], -8.0, 30.0)
+    loaded = r.provenance["mechanism_sha256"]
+    assert loaded == mechanisms.loaded_mechanism_hash()
+    for f in mechanisms.mod_files():
+        (tmp_path / f.name).write_bytes(f.read_bytes())
+    (tmp_path / "kim_m2_activation.mod").write_text((tmp_path / "kim_m2_activation.mod").read_text() + "\n:x\n")
+    monkeypatch.setattr(mechanisms, "mod_dir", lambda: tmp_path)
+    assert mechanisms.mechanism_hash() != loaded
+    assert simulate(load_parameters("CT09"), [10.0], -8.0, 30.0).provenance["mechanism_sha256"] == loaded
