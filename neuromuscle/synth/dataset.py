@@ -180,12 +180,12 @@ def _truth(name: str | None, effect: Any, strength: float, amplitude: float, see
            sd_N: float, noise_tau_ms: float, variation: float, base: str, dt_ms: float, params: ParameterSet,
            drifts: dict[str, Any]) -> dict[str, Any]:
     from .. import __version__
-    from ..model.mechanisms import mechanism_hash
+    from ..model.mechanisms import loaded_mechanism_hash
 
     reg = registry()
     return {
         "schema": SCHEMA, "generator": "neuromuscle.synth.make_dataset", "neuromuscle_version": __version__,
-        "mechanism_sha256": mechanism_hash(),
+        "mechanism_sha256": loaded_mechanism_hash(),
         "cause": name or "none", "strength": strength, "amplitude": amplitude,
         "amplitude_unit": effect.unit if effect else "", "amplitude_meaning": effect.meaning if effect else "",
         "hidden_form": effect.form if effect else "none", "in_catalogue": bool(effect.in_catalogue) if effect
