@@ -102,16 +102,25 @@ def chi2_weights(calibration: Sequence[Trial], noise: Mapping[str, Noise]) -> li
     return [noise[t.trial_id].chi2_weight for t in calibration]
 
 
+#: The fixed step (ms) of the fits' finite-difference runs (the Jacobian's; the diagnosis simulates at 0.1 ms, and
+#: the residuals each fit minimises, its estimate and every force judged stay there).  The step's error cancels in
+#: the differences, as in the screening (``screening.COLUMN_DT_MS``).  The Jacobians were 73 % of the standard
+#: file's diagnosis (228 of 314 s on stop 30's machine); at 0.2 ms each costs (p + 1)/2 runs of 0.1 ms instead of
+#: p (p: free parameters, 6-10).
+JACOBIAN_DT_MS = 0.2
+
+
 def _fit_on(calibration: Sequence[Trial], start: ParameterSet, free: dict, options: SimulationOptions, workers: int,
             max_iterations: int, pool: TrialPool | None, noise: Mapping[str, Noise] | None = None) -> FitResult:
     """The one fit of this step: ``free`` parameters from ``start`` on ``calibration``, chi-square when ``noise``
-    is given else NRMSE, forward differences (on ``pool`` when given, else on ``workers`` processes)."""
+    is given else NRMSE, forward differences at ``JACOBIAN_DT_MS`` (on ``pool`` when given, else on ``workers``
+    processes)."""
     cal = list(calibration)
     problem = (FitProblem(cal, start, free, objective="nrmse", options=options) if noise is None else
                FitProblem(cal, start, free, objective="sse", weights=chi2_weights(cal, noise), options=options))
     return fit(problem,
                workers=workers if pool is None else 1, pool=pool, progress=False, max_iterations=max_iterations,
-               fd="forward", tolerance=TOLERANCE)
+               fd="forward", tolerance=TOLERANCE, jacobian_dt_ms=JACOBIAN_DT_MS)
 
 
 #: What the reference refits on every calibration trial: Module 2, Module 1's pump rate Umax and release decay tau2.

@@ -30,7 +30,9 @@ from ..reports.outdir import atomic_path, check_out_dir, prepare_out_dir, write_
 from . import verdict as rule
 from .baseline import DT_MS, MAX_TRAIN_S
 from .diagnosis import Diagnosis, diagnose_data, prepare
+from .extension_fit import JACOBIAN_DT_MS
 from .residuals import VARIABLES
+from .screening import COLUMN_DT_MS
 
 SCHEMA = "neuromuscle.diagnosis/1"
 REPORT_FILES: tuple[str, ...] = ("diagnosis.json", "report.md", "params.json")
@@ -141,7 +143,8 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
                           "min_structured_fraction": rule.MIN_STRUCTURED_FRACTION,
                           "text": " ".join(rule.__doc__.split())},
         "simulation": {"method": "fixed step", "dt_ms": DT_MS, "record_dt_ms": d.baseline.options.record_dt_ms,
-                       "settle_ms": d.baseline.options.settle_ms, "baseline_max_train_s": MAX_TRAIN_S},
+                       "settle_ms": d.baseline.options.settle_ms, "baseline_max_train_s": MAX_TRAIN_S,
+                       "fit_jacobian_dt_ms": JACOBIAN_DT_MS, "screening_dt_ms": COLUMN_DT_MS},
         "figures": figures, "parameters_file": "params.json", "wall_time_s": d.wall_time_s,
     }
 

@@ -77,10 +77,13 @@ class _IterationLimit(Exception):
 
 def trust_region_least_squares(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, run_all: RunAll,
                                monitor: Monitor, fd: str, h: float, max_iterations: int,
-                               tol: float) -> tuple[np.ndarray, str, tuple[np.ndarray, np.ndarray] | None]:
+                               tol: float, jacobian_run_all: RunAll | None = None
+                               ) -> tuple[np.ndarray, str, tuple[np.ndarray, np.ndarray] | None]:
     """scipy's trust-region reflective least squares in z within [lo, hi], Jacobian by :func:`fd_jacobian`;
     tol is scipy's ftol/xtol/gtol; returns z, a message and (J, r) at z if known.  One iteration = one
-    Jacobian; after ``max_iterations`` the monitor's best point is returned."""
+    Jacobian; after ``max_iterations`` the monitor's best point is returned.  jacobian_run_all: evaluates the
+    Jacobian's candidates and its own base point (e.g. simulations at a coarser step, whose error cancels in the
+    differences); the residuals minimised, the monitor's best point and r at z stay ``run_all``'s."""
     from scipy.optimize import least_squares
 
     cache: dict[bytes, np.ndarray] = {}
@@ -100,7 +103,10 @@ def trust_region_least_squares(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, r
             raise _IterationLimit
         z = np.array(z, dtype=float)
         r0 = fun(z)
-        j, _ = fd_jacobian(z, lo, hi, run_all, fd, h, r0)
+        if jacobian_run_all is None:
+            j, _ = fd_jacobian(z, lo, hi, run_all, fd, h, r0)
+        else:
+            j, _ = fd_jacobian(z, lo, hi, jacobian_run_all, fd, h, None)
         last.clear()
         last[z.tobytes()] = (j, r0)
         done[0] += 1

@@ -8,6 +8,7 @@ vector of its objective (:mod:`.objectives`); the simulation of each trial is :f
 
 from __future__ import annotations
 
+import copy
 from dataclasses import asdict
 from typing import Any, Mapping, Sequence
 
@@ -129,6 +130,12 @@ class FitProblem:
     def reference(self) -> dict[str, dict[str, Any]]:
         """The transform of each free parameter (for the checkpoint)."""
         return {tf.name: {"ref": tf.ref, "log": tf.log, "scale": tf.scale} for tf in self._tf}
+
+    def with_options(self, options: SimulationOptions) -> "FitProblem":
+        """The same problem (trials, weights, free parameters, search space) simulated with other ``options``."""
+        other = copy.copy(self)
+        other.options = options
+        return other
 
     # -- evaluation ---------------------------------------------------------------------------------------
     def simulate_trials(self, z: Sequence[float], options: SimulationOptions | None = None) -> list[np.ndarray]:

@@ -8,7 +8,7 @@ import os
 import time
 from collections import OrderedDict
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import partial
 from pathlib import Path
 from typing import Any, Callable, Iterable, Iterator
@@ -18,6 +18,7 @@ import numpy as np
 from ..errors import InputError, NumericalError
 from ..analysis.metrics import nrmse_percent
 from ..parameters import SPECS, ParameterSet
+from ..sim.simulator import MAX_DT_MS
 from .checkpoint import Tracker, read_checkpoint
 from .evaluate import MapFn, SimulationOptions, TrialPool, candidate_map, evaluate_candidate
 from .intervals import INTERVAL_METHODS, fit_uncertainty
@@ -112,15 +113,17 @@ class FitResult:
 _RECENT = 16
 Residuals = Callable[[list[np.ndarray]], Iterable[np.ndarray]]
 Simulate = Callable[[np.ndarray, "SimulationOptions | None"], list[np.ndarray]]
+ResidualsOf = Callable[[FitProblem], Residuals]
 
 
 @contextmanager
 def _evaluator(problem: FitProblem, map_fn: MapFn | None, workers: int, mp_context: str,
-               pool: TrialPool | None) -> Iterator[tuple[Residuals, Simulate]]:
+               pool: TrialPool | None) -> Iterator[tuple[Residuals, Simulate, ResidualsOf]]:
     """How the fit evaluates: (residuals of a list of candidates, every trial's force at one z with given
-    options).  With ``pool``, or ``workers`` > 1 (a pool of this fit's own), both go through a
-    :class:`.evaluate.TrialPool` (split by candidate and trial); else candidates go through ``map_fn`` (or
-    serially) and single runs stay in this process."""
+    options, the residuals of a variant of ``problem`` with other simulation options, e.g. the Jacobian's).  With
+    ``pool``, or ``workers`` > 1 (a pool of this fit's own), all go through a :class:`.evaluate.TrialPool` (split
+    by candidate and trial); else candidates go through ``map_fn`` (or serially) and single runs stay in this
+    process."""
     if pool is None and map_fn is None and workers > 1:
         with TrialPool(problem.trials, workers, mp_context) as own:
             with _evaluator(problem, None, 1, mp_context, own) as ev:
@@ -142,10 +145,11 @@ def _evaluator(problem: FitProblem, map_fn: MapFn | None, workers: int, mp_conte
             return _all_ran(pool.simulate([problem.parameters(z)], problem.trials,
                                           problem.options if options is None else options)[0])
 
-        yield residuals, simulate
+        yield residuals, simulate, lambda variant: partial(pool.residuals, variant)
         return
     with candidate_map(map_fn, workers, mp_context) as map_candidates:
-        yield partial(map_candidates, partial(evaluate_candidate, problem)), problem.simulate_trials
+        yield (partial(map_candidates, partial(evaluate_candidate, problem)), problem.simulate_trials,
+               lambda variant: partial(map_candidates, partial(evaluate_candidate, variant)))
 
 
 def _all_ran(sims: list[np.ndarray] | None) -> list[np.ndarray]:
@@ -158,7 +162,8 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
         checkpoint: str | os.PathLike | None = None, progress: bool = True, *, resume: bool = False,
         fd: str = "central", fd_step: float = 1e-3, max_iterations: int = 100, tolerance: float = 1e-8,
         ident_rcond: float = 1e-3, max_rel_se: float = 0.5, mp_context: str = "spawn",
-        intervals: str = INTERVAL_METHODS[0], pool: TrialPool | None = None) -> FitResult:
+        intervals: str = INTERVAL_METHODS[0], pool: TrialPool | None = None,
+        jacobian_dt_ms: float | None = None) -> FitResult:
     """Fit ``problem``'s free parameters (search space: :mod:`.transforms`; statistics: :mod:`.uncertainty`).
 
     method: "least_squares" (scipy trust-region reflective with a finite-difference Jacobian in z) or
@@ -172,6 +177,10 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     fd, fd_step: finite differences (:func:`.optimizers.fd_jacobian`).  ident_rcond, max_rel_se: the
     identifiability flags (``Rules.for_fit``).  intervals: how the 95 % intervals are made, one of
     ``INTERVAL_METHODS`` (:mod:`.intervals`; the default adds one simulation of every trial at half the step).
+    jacobian_dt_ms: the fixed step (ms) of the least-squares Jacobian's runs, its base point run again at that step
+    (None: the problem's own step).  The step's error cancels in the differences, so a coarser step makes the
+    Jacobian cheaper at little cost in accuracy; every residual the optimiser minimises, the best point, the
+    cost and the forces returned stay at the problem's step.  The intervals use the last Jacobian.
     """
     if not (isinstance(max_iterations, int) and max_iterations >= 1):
         raise InputError(f"max_iterations must be an integer >= 1, got {max_iterations!r}")
@@ -183,6 +192,10 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
         raise InputError(f"fd must be 'central' or 'forward', got {fd!r}")
     if not (isinstance(workers, int) and workers >= 1):
         raise InputError(f"workers must be an integer >= 1, got {workers!r}")
+    if jacobian_dt_ms is not None and not (isinstance(jacobian_dt_ms, (int, float))
+                                           and 0 < jacobian_dt_ms <= MAX_DT_MS):
+        raise InputError(f"jacobian_dt_ms must be a fixed step in ms, > 0 and <= {MAX_DT_MS}, got "
+                         f"{jacobian_dt_ms!r}")
     if sum((map_fn is not None, workers > 1, pool is not None)) > 1:
         raise InputError("give one of map_fn, workers > 1 and pool, not several")
     ckpt = Path(checkpoint) if checkpoint is not None else None
@@ -193,20 +206,29 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     lo, hi = problem.z_bounds()
     z0 = np.clip(z0, lo, hi)
     tracker = Tracker(problem, method, ckpt, progress, previous)
-    with _evaluator(problem, map_fn, workers, mp_context, pool) as (residuals, simulate):
+    with _evaluator(problem, map_fn, workers, mp_context, pool) as (residuals, simulate, residuals_of):
 
         def run_all(zs: list[np.ndarray]) -> list[np.ndarray]:
             rs = [np.asarray(r, dtype=float) for r in residuals(zs)]
             tracker.evaluated(zs, rs)
             return rs
 
+        jacobian_run_all = None
+        if jacobian_dt_ms is not None:
+            coarse = residuals_of(problem.with_options(replace(problem.options, dt_ms=float(jacobian_dt_ms),
+                                                               record_dt_ms=None)))
+
+            def jacobian_run_all(zs: list[np.ndarray]) -> list[np.ndarray]:
+                tracker.n_sim += len(zs) * len(problem.trials)  # counted, never the best point (another step)
+                return [np.asarray(r, dtype=float) for r in coarse(zs)]
+
         if method == "least_squares":
             z, message, jr = trust_region_least_squares(z0, lo, hi, run_all, tracker, fd, fd_step,
-                                                        max_iterations, tolerance)
+                                                        max_iterations, tolerance, jacobian_run_all)
         else:
             z, message = praxis(z0, lo, hi, run_all, tracker, max_iterations, tolerance)
             jr = None
-        jac = jr[0] if jr is not None else fd_jacobian(z, lo, hi, run_all, fd, fd_step, None)[0]
+        jac = jr[0] if jr is not None else fd_jacobian(z, lo, hi, jacobian_run_all or run_all, fd, fd_step, None)[0]
         sims = simulate(z, None)
         tracker.n_sim += len(problem.trials)
         r = problem.residuals_from(sims)

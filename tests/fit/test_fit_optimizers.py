@@ -1,9 +1,12 @@
 """Optimisers (neuromuscle.fit.optimizers, through fit): recovery of known parameters from synthetic noisy data."""
 
 import numpy as np
+import pytest
 from fit_synthetic import NOISE_N, OPTS, far_start, synthetic_trial
 
+from neuromuscle.errors import InputError
 from neuromuscle.fit import FitProblem, fit
+from neuromuscle.fit.optimizers import fd_jacobian
 
 
 def test_recovers_C3_C1_from_far_start_inside_ci(ct09, twitch_trials):
@@ -45,3 +48,29 @@ def test_praxis_baseline(ct09, twitch_trials):
     assert abs(res.estimates["C3"] / ct09["C3"] - 1) < 0.005, res.summary()
     lo, hi = res.ci95["C3"]
     assert lo <= ct09["C3"] <= hi
+
+
+def test_coarse_jacobian_steps_to_the_same_estimate_and_keeps_the_problems_step(ct09, twitch_trials):
+    """jacobian_dt_ms: the Jacobian's runs at another step; estimate, cost and forces stay at the problem's."""
+    problem = FitProblem(twitch_trials, ct09, ["C3", "C1"], start=far_start(ct09), options=OPTS)
+    fine = fit(problem, progress=False, fd="forward")
+    coarse = fit(problem, progress=False, fd="forward", jacobian_dt_ms=0.2)
+    for name in ("C3", "C1"):  # the same optimum, to a small fraction of its standard error
+        assert abs(coarse.estimates[name] - fine.estimates[name]) < 0.1 * fine.std_errors[name], name
+    sims = problem.simulate_trials(coarse.z)  # the forces and the cost are the problem's (0.1 ms), not 0.2 ms
+    for t, s in zip(twitch_trials, sims):
+        assert np.array_equal(coarse.simulated[t.trial_id], s)
+    r = problem.residuals(coarse.z)
+    assert coarse.cost == pytest.approx(float(r @ r), rel=1e-12)
+    # the Jacobian it used is the coarse one: close to the problem's own, not equal to it
+    lo, hi = problem.z_bounds()
+    j_fine = fd_jacobian(coarse.z, lo, hi, lambda zs: [problem.residuals(z) for z in zs], "forward", 1e-3, None)[0]
+    rel = np.linalg.norm(coarse.jacobian - j_fine) / np.linalg.norm(j_fine)
+    assert 0.0 < rel < 0.05, rel
+
+
+@pytest.mark.parametrize("bad", [0.0, -0.1, float("nan"), 0.5])
+def test_jacobian_step_out_of_range_is_refused(ct09, twitch_trials, bad):
+    problem = FitProblem(twitch_trials[:1], ct09, ["C3"], options=OPTS)
+    with pytest.raises(InputError, match="jacobian_dt_ms"):
+        fit(problem, progress=False, jacobian_dt_ms=bad)
