@@ -213,14 +213,16 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
             tracker.evaluated(zs, rs)
             return rs
 
-        jacobian_run_all = None
+        jacobian_run_all: Callable[[list[np.ndarray]], list[np.ndarray]] | None = None
         if jacobian_dt_ms is not None:
             coarse = residuals_of(problem.with_options(replace(problem.options, dt_ms=float(jacobian_dt_ms),
                                                                record_dt_ms=None)))
 
-            def jacobian_run_all(zs: list[np.ndarray]) -> list[np.ndarray]:
+            def run_coarse(zs: list[np.ndarray]) -> list[np.ndarray]:
                 tracker.n_sim += len(zs) * len(problem.trials)  # counted, never the best point (another step)
                 return [np.asarray(r, dtype=float) for r in coarse(zs)]
+
+            jacobian_run_all = run_coarse
 
         if method == "least_squares":
             z, message, jr = trust_region_least_squares(z0, lo, hi, run_all, tracker, fd, fd_step,
