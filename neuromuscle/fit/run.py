@@ -36,8 +36,8 @@ class FitResult:
     :mod:`.objectives`), ``nrmse_percent`` and the simulated force (N) per trial id, counters and history
     (``n_simulations`` counts the trial runs the fit needed, also one a pool-backed fit took from a candidate it
     had just run);
-    ``z`` and ``jacobian``: the search vector of the estimate and dr/dz there (other interval methods:
-    :func:`.intervals.fit_uncertainty`)."""
+    ``z`` and ``jacobian``: the search vector of the estimate and dr/dz there, from runs at ``fit``'s
+    ``jacobian_dt_ms`` when given (other interval methods: :func:`.intervals.fit_uncertainty`)."""
 
     parameters: ParameterSet
     uncertainty: Uncertainty
