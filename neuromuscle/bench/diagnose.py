@@ -36,7 +36,7 @@ def bench_diagnose(workers: int = 2) -> dict[str, Any]:
     """Wall times (s) of the baseline calibration alone and of the full diagnosis (report written to a temporary
     folder), with the file's trial count, the verdict and the simulation settings."""
     from ..diagnose import run_diagnosis
-    from ..diagnose.baseline import DT_MS, calibrate_baseline
+    from ..diagnose.baseline import DT_MS, SETTLE_MS, calibrate_baseline
     from ..diagnose.diagnosis import prepare
     from ..diagnose.extension_fit import JACOBIAN_DT_MS
     from ..diagnose.screening import COLUMN_DT_MS
@@ -54,7 +54,8 @@ def bench_diagnose(workers: int = 2) -> dict[str, Any]:
         doc = run_diagnosis(path, Path(tmp) / "report", workers=workers)
         t_full = time.perf_counter() - t0
     return {"data": source, "n_trials": len(data.trials), "workers": workers,
-            "simulation": f"fixed step dt {DT_MS} ms (0.27 % twitch-peak error vs SciPy, below 1-2 % noise); the "
+            "simulation": f"fixed step dt {DT_MS} ms (0.27 % twitch-peak error vs SciPy, below 1-2 % noise), "
+                          f"{SETTLE_MS:g} ms settling (the model starts at rest); the "
                           f"screening's finite differences at {COLUMN_DT_MS} ms and the fits' Jacobians at "
                           f"{JACOBIAN_DT_MS} ms (the step's error cancels in the differences)",
             "baseline_calibration_s": round(t_base, 1), "full_diagnosis_s": round(t_full, 1),

@@ -57,3 +57,34 @@ def test_kse_keeps_the_steps_stiffness_when_p0_is_refined(stiff_preparation):
     assert base.parameters["P0"] != pytest.approx(ct09["P0"], rel=1e-3)  # P0 was refined
     assert base.parameters["P0"] * base.parameters["KSE"] == pytest.approx(ct09["P0"] * stage.values["KSE"],
                                                                             rel=1e-12)
+
+
+def test_the_diagnosis_runs_need_no_settling():
+    """The diagnosis's runs start at the trial's first sample (SETTLE_MS = 0): every mechanism, each extension's
+    included, starts at rest, so 300 ms of settling first (the rule until stop 31) changes the force by less than
+    1e-6 P0 on an isometric twitch, a shortening hold and the step."""
+    from dataclasses import asdict
+
+    import numpy as np
+
+    from neuromuscle.diagnose.baseline import OPTIONS, SETTLE_MS
+    from neuromuscle.fit import trial_simulation
+    from neuromuscle.model.extensions import registry
+    from neuromuscle.synth.dataset import _empty_trial
+    from neuromuscle.synth.protocols import standard_protocols
+    from neuromuscle.synth.variation import draw_preparation
+
+    assert SETTLE_MS == 0.0 and OPTIONS.settle_ms == SETTLE_MS
+    params, _ = draw_preparation(load_parameters("CT09"), 0.2, np.random.default_rng(7))
+    plans = standard_protocols(round(float(params["g1"]), 1))
+    trials = [_empty_trial(p) for p in plans if p.trial_id in ("twitch_opt", "shorten_hold40", "step100")]
+    assert len(trials) == 3
+    for name in [None, *sorted(registry())]:
+        ext = () if name is None else (name,)
+        p = params if name is None else params.with_values(
+            {registry()[name].qualified(x.name): x.default for x in registry()[name].parameters})
+        for tr in trials:
+            now = trial_simulation(p, tr, **{**asdict(OPTIONS), "extensions": ext})
+            settled = trial_simulation(p, tr, **{**asdict(OPTIONS), "settle_ms": 300.0, "extensions": ext})
+            assert np.max(np.abs(now)) > 0.01 * p["P0"], (name, tr.trial_id)  # the trial makes force
+            assert np.max(np.abs(now - settled)) < 1e-6 * p["P0"], (name, tr.trial_id)
