@@ -2,13 +2,21 @@
 trial when it calibrates (until stop 28 the step was filtered out with the moving trials and KSE stayed at CT09's
 0.4 /mm whatever the preparation), and never from a held-out step."""
 
+from dataclasses import asdict
+
+import numpy as np
 import pytest
 
 from neuromuscle.calibration.staged import FORCE_LENGTH_PATH
-from neuromuscle.diagnose.baseline import calibrate_baseline, step_trials
+from neuromuscle.diagnose.baseline import OPTIONS, SETTLE_MS, calibrate_baseline, step_trials
+from neuromuscle.fit import trial_simulation
 from neuromuscle.measured import MeasuredData
+from neuromuscle.model.extensions import registry
 from neuromuscle.parameters import load_parameters
 from neuromuscle.synth import make_dataset, truth, without_truth
+from neuromuscle.synth.dataset import _empty_trial
+from neuromuscle.synth.protocols import standard_protocols
+from neuromuscle.synth.variation import draw_preparation
 
 # suite seed 1's relaxation preparation, without its hidden effect: true KSE 0.563 /mm, CT09's 0.4
 SEED = 823155374
@@ -63,17 +71,6 @@ def test_the_diagnosis_runs_need_no_settling():
     """The diagnosis's runs start at the trial's first sample (SETTLE_MS = 0): every mechanism, each extension's
     included, starts at rest, so 300 ms of settling first (the rule until stop 31) changes the force by less than
     1e-6 P0 on an isometric twitch, a shortening hold and the step."""
-    from dataclasses import asdict
-
-    import numpy as np
-
-    from neuromuscle.diagnose.baseline import OPTIONS, SETTLE_MS
-    from neuromuscle.fit import trial_simulation
-    from neuromuscle.model.extensions import registry
-    from neuromuscle.synth.dataset import _empty_trial
-    from neuromuscle.synth.protocols import standard_protocols
-    from neuromuscle.synth.variation import draw_preparation
-
     assert SETTLE_MS == 0.0 and OPTIONS.settle_ms == SETTLE_MS
     params, _ = draw_preparation(load_parameters("CT09"), 0.2, np.random.default_rng(7))
     plans = standard_protocols(round(float(params["g1"]), 1))
