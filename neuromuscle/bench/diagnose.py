@@ -39,6 +39,7 @@ def bench_diagnose(workers: int = 2) -> dict[str, Any]:
     from ..diagnose.baseline import DT_MS, SETTLE_MS, calibrate_baseline
     from ..diagnose.diagnosis import prepare
     from ..diagnose.extension_fit import JACOBIAN_DT_MS
+    from ..fit.evaluate import BATCH_UNITS
     from ..diagnose.screening import COLUMN_DT_MS
     from ..measured import write_measured
     from ..parameters import load_parameters
@@ -57,6 +58,8 @@ def bench_diagnose(workers: int = 2) -> dict[str, Any]:
             "simulation": f"fixed step dt {DT_MS} ms (0.27 % twitch-peak error vs SciPy, below 1-2 % noise), "
                           f"{SETTLE_MS:g} ms settling (the model starts at rest); the "
                           f"screening's finite differences at {COLUMN_DT_MS} ms and the fits' Jacobians at "
-                          f"{JACOBIAN_DT_MS} ms (the step's error cancels in the differences)",
+                          f"{JACOBIAN_DT_MS} ms (the step's error cancels in the differences); the runs of one "
+                          f"trial under several parameter sets batched as units of one NEURON run (up to "
+                          f"{BATCH_UNITS}; each unit's force bit for bit its own run's)",
             "baseline_calibration_s": round(t_base, 1), "full_diagnosis_s": round(t_full, 1),
             "verdict": doc["verdict"], "target_s": 180.0, "within_target": t_full < 180.0}

@@ -44,7 +44,7 @@ import numpy as np
 from scipy.optimize import lsq_linear
 
 from ..fit import SimulationOptions
-from ..fit.evaluate import TrialPool
+from ..fit.evaluate import TrialPool, simulate_batched
 from ..measured import Trial
 from ..model.extensions import registry
 from ..parameters import SPECS, ParameterSet
@@ -94,12 +94,14 @@ def _whitened(sims: Mapping[str, np.ndarray], measured: Mapping[str, np.ndarray]
 def simulate_runs(runs: Sequence[tuple[ParameterSet, tuple[str, ...]]], trials: Sequence[Trial],
                   options: SimulationOptions, pool: TrialPool | None) -> list[dict[str, np.ndarray]]:
     """Every trial's force under each (parameter set, extensions) run: one pool call when a pool is given, so the
-    two workers stay busy to the end (longest trials first) rather than idling at the tail of ~20 small calls."""
-    if pool is not None and runs:
-        out = pool.simulate([p for p, _ in runs], trials, [replace(options, extensions=e) for _, e in runs])
+    two workers stay busy to the end (longest trials first) rather than idling at the tail of ~20 small calls;
+    without a pool, each trial's runs batched in this process."""
+    if runs:
+        params, opts = [p for p, _ in runs], [replace(options, extensions=e) for _, e in runs]
+        out = pool.simulate(params, trials, opts) if pool is not None else simulate_batched(params, trials, opts)
         if not any(s is None for s in out):
             return [{t.trial_id: f for t, f in zip(trials, s)} for s in out]
-    return [simulate_all(p, trials, options, e) for p, e in runs]  # serially; names a failing run
+    return [simulate_all(p, trials, options, e) for p, e in runs]  # one by one: names a failing run
 
 
 def _step_within(name: str, value: float) -> float:

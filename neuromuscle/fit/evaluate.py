@@ -8,12 +8,15 @@
 * **Map.**  All candidates of one Jacobian are evaluated by one call of the map in a fixed order, so serial and
   parallel fits are identical: every candidate is a pure function of its parameter vector (fixed-step
   integration; each simulation builds and tears down its unit).
+* **Batches** (:func:`trial_simulations`).  The candidates of one call that simulate the same trial run
+  together, as units of one NEURON run (up to ``BATCH_UNITS``): a lone unit spends most of each step in
+  NEURON's per-mechanism overhead, which the batch shares.  Each unit's force is bit for bit its own run's.
 * **Trial pool** (:class:`TrialPool`, ``fit(..., workers=N)`` or ``fit(..., pool=)``).  The work is split by
-  (candidate, trial), not by candidate, longest trials first: a single candidate (a trust-region step, the
-  final run, the half-step re-run of the intervals) then uses every worker too, and a Jacobian's candidates
-  need not be a multiple of the workers.  The trials are sent to each worker once, when the pool starts; a
-  task carries a parameter set and a trial index.  The forces are the same simulations as in one process, so
-  the fit is identical.
+  trial, and by candidate only beyond a batch, longest trials first: a single candidate (a trust-region step,
+  the final run, the half-step re-run of the intervals) then uses every worker too, and a Jacobian's
+  candidates need not be a multiple of the workers.  The trials are sent to each worker once, when the pool
+  starts; a task carries parameter sets, their options and a trial index.  The forces are the same
+  simulations as in one process, so the fit is identical.
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ from __future__ import annotations
 import concurrent.futures
 import multiprocessing
 from contextlib import contextmanager
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, MutableMapping, Sequence
 
 import numpy as np
@@ -32,12 +35,17 @@ from ..measured import Trial
 from ..parameters import ParameterSet
 from ..model.kim import kim_excitation
 from ..model.unit import Model
-from ..sim import simulate
+from ..sim import simulate, simulate_batch
 
 if TYPE_CHECKING:
     from .problem import FitProblem
 
 MapFn = Callable[[Callable[[Any], Any], Iterable[Any]], Iterable[Any]]
+
+#: The most units one batched NEURON run holds (:func:`trial_simulations`): a single unit spends most of its step
+#: in NEURON's per-mechanism overhead, which a batch shares; per run of a 12.5 s train (this machine kind) 106 ms
+#: alone, 47 ms in batches of 8, 41 ms of 16, no better beyond.
+BATCH_UNITS = 16
 
 
 @dataclass(frozen=True)
@@ -63,6 +71,27 @@ def check_trial_units(trial: Trial) -> None:
                          "and angles first)")
 
 
+def _protocol(trial: Trial, settle_ms: float) -> tuple[np.ndarray, float, np.ndarray, LengthTrace | float]:
+    """The trial on the simulation clock: sample times (ms), duration (ms), stimulus times (ms) and the length
+    (mm, constant or a trace), time_s[0] at settle_ms."""
+    check_trial_units(trial)
+    if not np.isfinite(settle_ms) or settle_ms < 0:
+        raise InputError(f"settle_ms must be finite and >= 0, got {settle_ms}")
+    t0 = float(trial.time_s[0])
+    t_ms = settle_ms + (np.asarray(trial.time_s, dtype=float) - t0) * 1000.0
+    spikes_ms = settle_ms + (np.asarray(trial.stimulus_times_s, dtype=float) - t0) * 1000.0
+    length: LengthTrace | float
+    if trial.length is None:
+        if trial.length_const is None:
+            raise InputError(f"trial '{trial.trial_id}': neither a length dataset nor a constant length")
+        length = float(trial.length_const)
+    else:
+        x = np.asarray(trial.length, dtype=float)
+        lt, lx = (t_ms, x) if settle_ms == 0 else (np.concatenate([[0.0], t_ms]), np.concatenate([[x[0]], x]))
+        length = float(x[0]) if np.all(x == x[0]) else LengthTrace(lt, lx, name=f"trial {trial.trial_id}")
+    return t_ms, float(t_ms[-1]), spikes_ms, length
+
+
 def trial_simulation(params: ParameterSet, trial: Trial, dt_ms: float = 0.05, *,
                      record_dt_ms: float | None = None, settle_ms: float = 500.0,
                      length_compensation: bool = True, movement_compensation: bool = False,
@@ -75,28 +104,39 @@ def trial_simulation(params: ParameterSet, trial: Trial, dt_ms: float = 0.05, *,
     extensions: canonical names of catalogue extensions to switch on, valued from ``params``.
     excitation/contraction: as ``MuscleUnit`` (default: Kim Modules 1-2 with the two switches, Module 3).
     """
-    check_trial_units(trial)
-    if not np.isfinite(settle_ms) or settle_ms < 0:
-        raise InputError(f"settle_ms must be finite and >= 0, got {settle_ms}")
-    t0 = float(trial.time_s[0])
-    t_ms = settle_ms + (np.asarray(trial.time_s, dtype=float) - t0) * 1000.0
-    duration_ms = float(t_ms[-1])
-    spikes_ms = settle_ms + (np.asarray(trial.stimulus_times_s, dtype=float) - t0) * 1000.0
-    length: LengthTrace | float
-    if trial.length is None:
-        if trial.length_const is None:
-            raise InputError(f"trial '{trial.trial_id}': neither a length dataset nor a constant length")
-        length = float(trial.length_const)
-    else:
-        x = np.asarray(trial.length, dtype=float)
-        lt, lx = (t_ms, x) if settle_ms == 0 else (np.concatenate([[0.0], t_ms]), np.concatenate([[x[0]], x]))
-        length = float(x[0]) if np.all(x == x[0]) else LengthTrace(lt, lx, name=f"trial {trial.trial_id}")
+    t_ms, duration_ms, spikes_ms, length = _protocol(trial, settle_ms)
     rec = dt_ms if record_dt_ms is None else record_dt_ms
     res = simulate(params, spikes_ms, length, duration_ms, dt_ms=dt_ms, record_dt_ms=rec, record=("force.F",),
                    excitation=kim_excitation(length_compensation, movement_compensation) if excitation is None
                    else excitation, contraction=contraction,
                    extensions={name: {} for name in extensions} or None)
     return np.interp(t_ms, res.t_ms, res.force_N)
+
+
+def trial_simulations(params: Sequence[ParameterSet], trial: Trial,
+                      options: Sequence[SimulationOptions]) -> list[np.ndarray | None]:
+    """The force (N) of ``trial`` under each parameter set with its options (None where the run failed
+    numerically): :func:`trial_simulation`'s numbers bit for bit, but the runs whose options differ at most in
+    their extensions are simulated together, as units of one NEURON run (``neuromuscle.sim.simulate_batch``),
+    at most ``BATCH_UNITS`` at a time."""
+    if len(params) != len(options):
+        raise ValueError(f"{len(options)} options for {len(params)} parameter sets")
+    out: list[np.ndarray | None] = [None] * len(params)
+    groups: dict[SimulationOptions, list[int]] = {}
+    for c, o in enumerate(options):
+        groups.setdefault(replace(o, extensions=()), []).append(c)
+    for opts, members in groups.items():
+        t_ms, duration_ms, spikes_ms, length = _protocol(trial, opts.settle_ms)
+        for start in range(0, len(members), BATCH_UNITS):
+            chunk = members[start:start + BATCH_UNITS]
+            results = simulate_batch(
+                [(params[c], {name: {} for name in options[c].extensions} or None) for c in chunk], spikes_ms,
+                length, duration_ms, excitation=kim_excitation(opts.length_compensation, opts.movement_compensation),
+                record=("force.F",), dt_ms=opts.dt_ms,
+                record_dt_ms=opts.dt_ms if opts.record_dt_ms is None else opts.record_dt_ms)
+            for c, res in zip(chunk, results):
+                out[c] = None if res is None else np.interp(t_ms, res.t_ms, res.force_N)
+    return out
 
 
 def evaluate_candidate(problem: FitProblem, z: np.ndarray) -> np.ndarray:
@@ -108,6 +148,23 @@ def evaluate_candidate(problem: FitProblem, z: np.ndarray) -> np.ndarray:
         return np.full(problem.n_residuals, np.nan)
 
 
+def simulate_batched(params: Sequence[ParameterSet], trials: Sequence[Trial],
+                     options: Sequence[SimulationOptions]) -> list[list[np.ndarray] | None]:
+    """In this process, what :meth:`TrialPool.simulate` gives: the force (N) of every one of ``trials`` under
+    each parameter set with its options (None for a set whose run of some trial failed numerically), each trial's
+    runs batched (:func:`trial_simulations`)."""
+    per_trial = [trial_simulations(params, t, options) for t in trials]
+    out = [[per_trial[j][c] for j in range(len(trials))] for c in range(len(params))]
+    return [None if any(f is None for f in sims) else sims for sims in out]  # type: ignore[misc]
+
+
+def batched_residuals(problem: FitProblem, zs: Sequence[np.ndarray]) -> list[np.ndarray]:
+    """``problem``'s residual vectors at ``zs`` in this process, each trial's runs batched (NaN for a candidate
+    whose run failed numerically): :func:`evaluate_candidate` on each z, at a fraction of the cost."""
+    sims = simulate_batched([problem.parameters(z) for z in zs], problem.trials, [problem.options] * len(zs))
+    return [np.full(problem.n_residuals, np.nan) if s is None else problem.residuals_from(s) for s in sims]
+
+
 _WORKER_TRIALS: list[Trial] = []
 
 
@@ -117,13 +174,11 @@ def _install_trials(trials: list[Trial]) -> None:
     _WORKER_TRIALS = trials
 
 
-def _simulate_task(task: tuple[ParameterSet, int, SimulationOptions]) -> np.ndarray | None:
-    """One (parameter set, trial index, options) run: the force (N), None when the run fails numerically."""
+def _simulate_task(task: tuple[list[ParameterSet], int, list[SimulationOptions]]) -> list[np.ndarray | None]:
+    """Runs of one trial (index into the worker's trials): each (parameter set, options)'s force (N), None for a
+    run that failed numerically (:func:`trial_simulations`)."""
     params, k, options = task
-    try:
-        return trial_simulation(params, _WORKER_TRIALS[k], **asdict(options))
-    except NumericalError:
-        return None
+    return trial_simulations(params, _WORKER_TRIALS[k], options)
 
 
 class TrialPool:
@@ -165,11 +220,14 @@ class TrialPool:
         if len(per_set) != len(params):
             raise ValueError(f"{len(per_set)} options for {len(params)} parameter sets")
         order = sorted(range(len(idx)), key=lambda j: -self._span_s[idx[j]])
-        tasks = [(c, j) for j in order for c in range(len(params))]
+        chunks = [range(c, min(c + BATCH_UNITS, len(params))) for c in range(0, len(params), BATCH_UNITS)]
+        tasks = [(j, chunk) for j in order for chunk in chunks]
         out: list[list[Any]] = [[None] * len(idx) for _ in params]
-        for (c, j), f in zip(tasks, self._pool.map(_simulate_task, [(params[c], idx[j], per_set[c])
-                                                                    for c, j in tasks])):
-            out[c][j] = f
+        for (j, chunk), forces in zip(tasks, self._pool.map(
+                _simulate_task, [([params[c] for c in chunk], idx[j], [per_set[c] for c in chunk])
+                                 for j, chunk in tasks])):
+            for c, f in zip(chunk, forces):
+                out[c][j] = f
         return [None if any(f is None for f in sims) else sims for sims in out]
 
     def residuals(self, problem: FitProblem, zs: Sequence[np.ndarray],

@@ -20,7 +20,7 @@ from ..analysis.metrics import nrmse_percent
 from ..parameters import SPECS, ParameterSet
 from ..sim.simulator import MAX_DT_MS
 from .checkpoint import Tracker, read_checkpoint
-from .evaluate import MapFn, SimulationOptions, TrialPool, candidate_map, evaluate_candidate
+from .evaluate import MapFn, SimulationOptions, TrialPool, batched_residuals, candidate_map, evaluate_candidate
 from .intervals import INTERVAL_METHODS, fit_uncertainty
 from .optimizers import fd_jacobian, praxis, trust_region_least_squares
 from .problem import FitProblem
@@ -146,6 +146,9 @@ def _evaluator(problem: FitProblem, map_fn: MapFn | None, workers: int, mp_conte
                                           problem.options if options is None else options)[0])
 
         yield residuals, simulate, lambda variant: partial(pool.residuals, variant)
+        return
+    if map_fn is None:  # in this process: each trial's candidates batched into one NEURON run
+        yield partial(batched_residuals, problem), problem.simulate_trials, lambda v: partial(batched_residuals, v)
         return
     with candidate_map(map_fn, workers, mp_context) as map_candidates:
         yield (partial(map_candidates, partial(evaluate_candidate, problem)), problem.simulate_trials,

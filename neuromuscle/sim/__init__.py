@@ -1,10 +1,11 @@
 """Running simulations: the Simulator (NEURON's integrator settings, set and restored), recordings by name,
-results with provenance, and ``simulate`` for one unit."""
+results with provenance, ``simulate`` for one unit and ``simulate_batch`` for one protocol under several
+parameter sets in one run."""
 
 from .recordings import Recorder
 from .results import SimulationResult, load_result, save_result
-from .run import default_recordings, simulate
+from .run import default_recordings, simulate, simulate_batch
 from .simulator import MAX_DT_MS, Simulator
 
 __all__ = ["MAX_DT_MS", "Recorder", "SimulationResult", "Simulator", "default_recordings", "load_result",
-           "save_result", "simulate"]
+           "save_result", "simulate", "simulate_batch"]

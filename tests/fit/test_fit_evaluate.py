@@ -1,6 +1,7 @@
-"""Evaluation of candidates (neuromuscle.fit.evaluate): a trial's simulation; serial and parallel maps agree."""
+"""Evaluation of candidates (neuromuscle.fit.evaluate): a trial's simulation; batched runs are the lone runs;
+serial and parallel maps agree."""
 
-from dataclasses import replace
+from dataclasses import asdict, replace
 
 import numpy as np
 import pytest
@@ -8,7 +9,8 @@ from fit_synthetic import OPTS, far_start, synthetic_trial
 
 from neuromuscle.errors import InputError
 from neuromuscle.fit import FitProblem, fit, trial_simulation
-from neuromuscle.fit.evaluate import TrialPool
+from neuromuscle.fit import evaluate
+from neuromuscle.fit.evaluate import TrialPool, trial_simulations
 from neuromuscle.measured import Trial
 from neuromuscle.sim import simulate
 
@@ -32,6 +34,32 @@ def test_trial_simulation_played_length_and_units(ct09):
                    length_unit="mm", length_const=-8.0, stimulus_times_s=np.array([0.02]))
     with pytest.raises(InputError, match="'N' and 'mm'"):
         trial_simulation(ct09, moment)
+
+
+def test_batched_runs_are_the_lone_runs(ct09, monkeypatch):
+    """trial_simulations on a stretch: runs with mixed steps and extensions, more of one step than a batch holds
+    (BATCH_UNITS = 2 here), come back in order as trial_simulation's forces, bit for bit."""
+    monkeypatch.setattr(evaluate, "BATCH_UNITS", 2)
+    ramp = synthetic_trial(ct09, "ramp", [0.02, 0.04, 0.06], length=lambda t: -8.0 + 20.0 * np.clip(t - 0.05, 0, 0.1))
+    moved = ct09.with_values({"kim_m2.C1": ct09["kim_m2.C1"] * 1.05})
+    params = [ct09, moved, ct09, ct09, moved]
+    opts = [OPTS, OPTS, replace(OPTS, dt_ms=0.05), replace(OPTS, extensions=("fatigue",)),
+            replace(OPTS, extensions=("force_enhancement_after_stretch",))]
+    got = trial_simulations(params, ramp, opts)
+    for p, o, g in zip(params, opts, got):
+        np.testing.assert_array_equal(g, trial_simulation(p, ramp, **asdict(o)))
+    assert not np.array_equal(got[0], got[1]) and not np.array_equal(got[0], got[4])
+    with pytest.raises(ValueError, match="1 options for 2 parameter sets"):
+        trial_simulations(params[:2], ramp, opts[:1])
+
+
+def test_batched_serial_fit_is_the_per_candidate_fit(ct09, twitch_trials):
+    """A fit in one process batches each Jacobian's candidates; one by one (a map given) it is the same fit."""
+    problem = FitProblem(twitch_trials, ct09, ["C3", "C1"], start=far_start(ct09), options=OPTS)
+    batched = fit(problem, progress=False, max_iterations=3)
+    one_by_one = fit(problem, progress=False, max_iterations=3, map_fn=map)
+    assert batched.estimates == one_by_one.estimates and batched.cost == one_by_one.cost
+    assert [h["cost"] for h in batched.history] == [h["cost"] for h in one_by_one.history]
 
 
 def test_serial_and_two_workers_identical(ct09, twitch_trials):
