@@ -39,8 +39,8 @@ def bench_diagnose(workers: int = 2) -> dict[str, Any]:
     from ..diagnose.baseline import DT_MS, SETTLE_MS, calibrate_baseline
     from ..diagnose.diagnosis import prepare
     from ..diagnose.extension_fit import JACOBIAN_DT_MS
-    from ..fit.evaluate import BATCH_UNITS
     from ..diagnose.screening import COLUMN_DT_MS
+    from ..fit.evaluate import BATCH_UNITS
     from ..measured import write_measured
     from ..parameters import load_parameters
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 import concurrent.futures
 import multiprocessing
 from contextlib import contextmanager
-from dataclasses import asdict, dataclass, replace
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, MutableMapping, Sequence
 
 import numpy as np
