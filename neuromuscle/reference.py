@@ -17,8 +17,17 @@ from scipy.integrate import solve_ivp
 from .analysis.module3 import ce_velocity, floored_capacity, force_length
 from .protocols.lengths import LengthTrace
 from .parameters import ParameterSet
+from .parameters.specs import registry
 
 _ATOL = np.array([1e-12, 1e-11, 1e-14, 1e-13, 1e-14, 1e-9, 1e-13])
+
+#: Module 3's state here is u = (Xm - XCE) - (Xm - Xm(0)) = Xm(0) - XCE (mm), whose derivative -VCE is continuous
+#: in t; the SE extension Xm - XCE (eq 9) is u + Xm(t) - Xm(0), with Xm(t) the length NEURON plays (linear between
+#: samples), so the muscle's velocity enters through Xm itself, never a sampled slope.  At a constant length u is
+#: the extension exactly, which resolves the tiny forces at rest that an absolute CE length (~ -8 mm) would hide
+#: below the tolerance.  (Until stop 33 the state was the extension itself, driven by Xm's slope: a jump in the
+#: right-hand side at every 0.1 ms sample of a random length, which cost Radau ~16 steps per sample.)
+_SE_STATE = 6
 
 
 @dataclass
@@ -34,12 +43,19 @@ class ReferenceResult:
     extension_states: np.ndarray | None = None
 
 
-def _phi(x: float, p: ParameterSet) -> float:
+def _flat_values(params: ParameterSet) -> dict[str, float]:
+    """The set's values under their qualified names and their flat Kim aliases, as a plain dict: the right-hand
+    side reads ~40 of them per call, and a ParameterSet resolves each alias through the registry."""
+    aliases = registry().aliases
+    return {**params.values, **{a: params.values[q] for a, q in aliases.items() if q in params.values}}
+
+
+def _phi(x: float, p: Mapping[str, float]) -> float:
     return p["phi1"] * x + p["phi2"] if x <= p["g1"] else p["phi3"] * x + p["phi4"]
 
 
-def activation(atil: float, t: float, x: float, v: float, p: ParameterSet, movement: tuple[bool, bool],
-               onset: float | None, at_onset: bool = True) -> float:
+def activation(atil: float, t: float, x: float, v: float, p: Mapping[str, float],
+               movement: tuple[bool, bool], onset: float | None, at_onset: bool = True) -> float:
     """A from Atil (eq 8), with eq 19 (movement[0]) and eq 20 (movement[1]) when on and t > onset (ms), or at
     the onset itself when ``at_onset`` says the movement has started; x mm, v mm/s.  A is floored at 1e-3 while
     eq 19 is active; a non-positive eq 20 divisor gives A = 0."""
@@ -64,7 +80,7 @@ class Observables:
     xm_mm: float
     vm_mm_s: float
     fse_N: float
-    params: ParameterSet
+    params: Mapping[str, float]
 
 
 @dataclass(frozen=True)
@@ -93,11 +109,12 @@ def _ports(mod: Mapping[str, Callable[[float], float]] | StateModulation, t: flo
     return {n: _port(mod, n, t) for n in NEUTRAL_PORTS}
 
 
-def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: LengthTrace,
+def _rhs(t: float, y: np.ndarray, p: Mapping[str, float], spikes: np.ndarray, trace: LengthTrace,
          lencomp: bool, movement: tuple[bool, bool],
          mod: Mapping[str, Callable[[float], float]] | StateModulation, seg_start: float) -> list[float]:
-    CaSR, CaSRCS, CaSP, CaSPB, CaSPT, At, ext = y[:7]
+    CaSR, CaSRCS, CaSP, CaSPB, CaSPT, At, u = y[:7]
     x = float(np.interp(t, trace.t_ms, trace.xm_mm))
+    ext = u + (x - float(trace.xm_mm[0]))  # the SE extension Xm - XCE (mm): see _SE_STATE
     v = float(np.interp(t, trace.t_ms, trace.velocity_mm_s))  # the played Vm of eq 20
     # the segment that ends at the onset runs without eqs 19-20 up to and including it (its solver evaluates the
     # right-hand side at the segment's end); the next one starts with them
@@ -111,10 +128,6 @@ def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: Le
     c = max(CaSP, 0.0)
     z = (c * p["K"]) ** 2
     U = port["uptake_gain"] * p["Umax"] * (z / (1.0 + c * p["K"] + z)) ** 2
-    # the SE sees the length NEURON plays (linear between samples): its exact slope, so that the integral of
-    # the muscle's velocity is Xm itself (a sampled velocity would make the SE drift)
-    k = min(max(int(np.searchsorted(trace.t_ms, t, side="right")) - 1, 0), trace.t_ms.size - 2)
-    dx = 1000.0 * (trace.xm_mm[k + 1] - trace.xm_mm[k]) / (trace.t_ms[k + 1] - trace.t_ms[k])
     K5 = p["K5i"] * (_phi(x, p) if lencomp else 1.0)
     K6 = p["K6i"] / (1.0 + 5.0 * At)
     sr = p["K1"] * CaSR * (p["CS0"] - CaSRCS) - p["K2"] * CaSRCS
@@ -124,14 +137,12 @@ def _rhs(t: float, y: np.ndarray, p: ParameterSet, spikes: np.ndarray, trace: Le
     ainf = 0.5 * (1.0 + np.tanh((xt - p["C1"]) / p["C2"]))
     tau = port["tauA_gain"] * p["C3"] / np.cosh((xt - p["C4"]) / (2.0 * p["C5"]))
     Fc = floored_capacity(float(force_length(x, p["g1"], p["g2"], p["P0"])) * A, p["P0"])
-    # the SE extension Xm - XCE (mm) is the state here: it resolves the tiny forces at rest that an
-    # absolute CE length (~ -8 mm) would hide below the tolerance
     extra = list(mod.rhs(t, y[7:], obs)) if isinstance(mod, StateModulation) else []
-    return [-sr - R + U, sr, -st - sb + R - U, sb, st, (ainf - At) / tau, (dx - ce_velocity(F, Fc, p)) / 1000.0,
+    return [-sr - R + U, sr, -st - sb + R - U, sb, st, (ainf - At) / tau, -ce_velocity(F, Fc, p) / 1000.0,
             *extra]
 
 
-def _initial_state(p: ParameterSet, trace: LengthTrace, kind: str, movement: tuple[bool, bool]) -> np.ndarray:
+def _initial_state(p: Mapping[str, float], trace: LengthTrace, kind: str, movement: tuple[bool, bool]) -> np.ndarray:
     """y0: seed 001's published state (all SR calcium free, nothing bound, no force), or the resting steady
     state: no sarcoplasmic calcium, the SR's CaSR0 shared with calsequestrin (eq 2 at rest), Atil at its steady
     state for [CaSPT] = 0 (eq 8), and the SE carrying the CE's force at the initial length (eqs 9-12)."""
@@ -168,7 +179,7 @@ def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: Leng
                 movement_compensation if lengthening_divisor is None else lengthening_divisor)
     trace = length if isinstance(length, LengthTrace) else LengthTrace.isometric(float(length), duration_ms)
     spikes = np.asarray(spikes_ms, dtype=float)
-    p = params
+    p = _flat_values(params)
     y0 = _initial_state(p, trace, initial_state, movement)
     atol = _ATOL
     if isinstance(mod, StateModulation):
@@ -199,6 +210,7 @@ def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: Leng
     v = trace.velocity_at(t)
     A = np.array([activation(a, ti, xi, vi, p, movement, trace.onset_ms, at_onset=False)
                   for a, ti, xi, vi in zip(Y[5], t, x, v)])
+    Y[_SE_STATE] = Y[_SE_STATE] + (x - float(trace.xm_mm[0]))  # u -> the SE extension Xm - XCE (mm)
     fse = p["P0"] * p["KSE"] * np.maximum(Y[6], 0.0)
     F = fse + np.array([_ports(mod, ti, Y[:, i], Observables(A[i], x[i], v[i], fse[i], p))["force_offset"]
                         for i, ti in enumerate(t)])

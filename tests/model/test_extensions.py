@@ -39,12 +39,18 @@ def test_neutral_extension_reproduces_the_baseline(ct09, method):
     assert neutral.settings["extensions"] == ["fatigue"]
 
 
-@pytest.mark.parametrize("method", ["fixed", "cvode"])
-def test_fatigue_matches_its_scipy_twin(ct09, method):
+@pytest.fixture(scope="module")
+def fatigue_twin(ct09):
+    """The SciPy twin of a 60 Hz train under fatigue (~20 s), shared by both integrators' tests."""
     spikes = constant_rate(60, 1400.0, start_ms=50.0)
     values = {"k": 0.03, "tau_rec": 3000.0}
     twin = registry()["fatigue"].reference_modulation(values, spikes)
-    ref = reference_simulate(ct09, spikes, -8.0, 1500.0, record_dt_ms=0.5, modulation=twin)
+    return spikes, values, twin, reference_simulate(ct09, spikes, -8.0, 1500.0, record_dt_ms=0.5, modulation=twin)
+
+
+@pytest.mark.parametrize("method", ["fixed", "cvode"])
+def test_fatigue_matches_its_scipy_twin(ct09, fatigue_twin, method):
+    spikes, values, twin, ref = fatigue_twin
     sim = simulate(ct09, spikes, -8.0, 1500.0, method=method, record_dt_ms=0.5,
                    extensions={"fatigue": values}, record=("force.F", "fatigue.gain"))
     n = min(ref.t_ms.size, sim.t_ms.size)
