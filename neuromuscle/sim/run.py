@@ -31,7 +31,8 @@ def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTra
              *, excitation: Model = None, contraction: Model = None,
              extensions: Mapping[str, Mapping[str, float]] | None = None, record: Sequence[str] | None = None,
              record_dt_ms: float = 0.1, method: str = "fixed", dt_ms: float = Simulator.dt_ms,
-             atol: float = Simulator.atol, rtol: float = Simulator.rtol, simulator: Simulator | None = None, initial_state: str = "rest",
+             atol: float = Simulator.atol, rtol: float = Simulator.rtol, simulator: Simulator | None = None,
+             initial_state: str = "rest",
              provenance_extra: dict | None = None) -> SimulationResult:
     """Simulate one unit from 0 to duration_ms (ms).
 
@@ -43,21 +44,7 @@ def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTra
     """
     sim = simulator if simulator is not None else Simulator(method=method, dt_ms=dt_ms, atol=atol, rtol=rtol)
     sim = replace(sim, label=f"parameter set {getattr(params, 'name', '?')!r}")
-    if not np.isfinite(record_dt_ms) or record_dt_ms <= 0:
-        raise InputError(f"record_dt_ms must be finite and > 0, got {record_dt_ms}")
-    if not np.isfinite(duration_ms) or duration_ms <= 0:
-        raise InputError(f"duration_ms must be finite and > 0, got {duration_ms}")
-    if sim.method == "fixed" and record_dt_ms < sim.dt_ms:
-        raise InputError(f"record_dt_ms = {record_dt_ms} ms is below the fixed step dt_ms = {sim.dt_ms} ms: samples "
-                         "between steps would repeat values; give record_dt_ms >= dt_ms")
-    spikes = check_spike_times(spikes_ms)
-    late = spikes[spikes >= duration_ms]
-    notes = []
-    if late.size:
-        notes.append(f"{late.size} spike(s) at or after the end of the run ({duration_ms:g} ms; the first at "
-                     f"{late[0]:g} ms) are not delivered; lengthen duration_ms or drop them")
-        spikes = spikes[spikes < duration_ms]
-    trace = as_length_trace(length, duration_ms)
+    spikes, late, trace, notes = _checked_protocol(spikes_ms, length, duration_ms, record_dt_ms, sim)
     unit = MuscleUnit(params, excitation=excitation, contraction=contraction, extensions=extensions,
                       initial_state=initial_state)
     try:
@@ -70,7 +57,7 @@ def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTra
         raise result
     for n in reversed(notes):
         result.warnings.insert(0, n)
-    result.settings["n_spikes_not_delivered"] = int(late.size)
+    result.settings["n_spikes_not_delivered"] = late
     return result
 
 
@@ -89,18 +76,17 @@ def simulate_batch(runs: Sequence[tuple[ParameterSet, Mapping[str, Mapping[str, 
     the others are unaffected.  Fixed step only: under CVODE the units would share the integrator's steps.
     excitation/contraction: a model name or a mapping slot -> Component (copied for every unit)."""
     sim = Simulator(method="fixed", dt_ms=dt_ms)
-    if not np.isfinite(record_dt_ms) or record_dt_ms < sim.dt_ms:
-        raise InputError(f"record_dt_ms must be finite and >= dt_ms = {sim.dt_ms} ms, got {record_dt_ms}")
-    if not np.isfinite(duration_ms) or duration_ms <= 0:
-        raise InputError(f"duration_ms must be finite and > 0, got {duration_ms}")
+    spikes, late, trace, notes = _checked_protocol(spikes_ms, length, duration_ms, record_dt_ms, sim)
+    runs = list(runs)
+    for k, run in enumerate(runs):
+        if not (isinstance(run, tuple) and len(run) == 2 and isinstance(run[0], ParameterSet)
+                and (run[1] is None or isinstance(run[1], Mapping))):
+            raise InputError(f"simulate_batch: run {k} must be a (ParameterSet, extensions or None) pair, got "
+                             f"{type(run).__name__} {run!r:.80}")
     if not runs:
         return []
     from neuron import h
 
-    spikes = check_spike_times(spikes_ms)
-    late = spikes[spikes >= duration_ms]
-    spikes = spikes[spikes < duration_ms]
-    trace = as_length_trace(length, duration_ms)
     section = h.Section(name="batch_muscle")
     units: list[MuscleUnit] = []
     try:
@@ -118,10 +104,30 @@ def simulate_batch(runs: Sequence[tuple[ParameterSet, Mapping[str, Mapping[str, 
         if isinstance(res, NumericalError):
             out.append(None)
             continue
-        res.warnings[:0] = [w for c in unit.components.values() for w in c.input_warnings(trace, unit.params)]
-        res.settings["n_spikes_not_delivered"] = int(late.size)
+        res.warnings[:0] = notes + [w for c in unit.components.values() for w in c.input_warnings(trace, unit.params)]
+        res.settings["n_spikes_not_delivered"] = late
         out.append(res)
     return out
+
+
+def _checked_protocol(spikes_ms: Iterable[float], length: LengthTrace | float, duration_ms: float,
+                      record_dt_ms: float, sim: Simulator) -> tuple[np.ndarray, int, LengthTrace, list[str]]:
+    """The inputs simulate and simulate_batch share, checked: (spikes before the end (ms), how many were at or
+    after it, the length trace, notes for the result's warnings).  InputError names the bad argument."""
+    if not np.isfinite(record_dt_ms) or record_dt_ms <= 0:
+        raise InputError(f"record_dt_ms must be finite and > 0, got {record_dt_ms}")
+    if not np.isfinite(duration_ms) or duration_ms <= 0:
+        raise InputError(f"duration_ms must be finite and > 0, got {duration_ms}")
+    if sim.method == "fixed" and record_dt_ms < sim.dt_ms:
+        raise InputError(f"record_dt_ms = {record_dt_ms} ms is below the fixed step dt_ms = {sim.dt_ms} ms: samples "
+                         "between steps would repeat values; give record_dt_ms >= dt_ms")
+    spikes = check_spike_times(spikes_ms)
+    late = spikes[spikes >= duration_ms]
+    notes = []
+    if late.size:
+        notes.append(f"{late.size} spike(s) at or after the end of the run ({duration_ms:g} ms; the first at "
+                     f"{late[0]:g} ms) are not delivered; lengthen duration_ms or drop them")
+    return spikes[spikes < duration_ms], int(late.size), as_length_trace(length, duration_ms), notes
 
 
 def _check_pulse_spacing(unit: MuscleUnit, spikes: np.ndarray) -> None:

@@ -44,6 +44,7 @@ def test_batch_of_one_and_isometric(ct09):
     alone = simulate(ct09, [10.0, 400.0], -6.0, 300.0, dt_ms=0.1)
     assert np.array_equal(got.force_N, alone.force_N)
     assert got.settings["n_spikes_not_delivered"] == alone.settings["n_spikes_not_delivered"] == 1
+    assert got.warnings == alone.warnings and "not delivered" in got.warnings[0]
     assert simulate_batch([], [10.0], -6.0, 300.0) == []
 
 
@@ -74,7 +75,16 @@ def test_a_failing_unit_is_none_and_the_others_are_untouched(ct09, monkeypatch):
 
 
 def test_batch_refuses_bad_steps(ct09):
-    with pytest.raises(InputError, match="record_dt_ms"):
+    with pytest.raises(InputError, match="record_dt_ms = 0.05 ms is below the fixed step dt_ms = 0.1 ms"):
         simulate_batch([(ct09, None)], [10.0], -6.0, 100.0, dt_ms=0.1, record_dt_ms=0.05)
     with pytest.raises(InputError, match="duration_ms"):
         simulate_batch([(ct09, None)], [10.0], -6.0, float("nan"))
+
+
+@pytest.mark.parametrize("bad", ["ct09", "ct09-ext-extra", "dict-params", "ext-not-mapping"])
+def test_batch_refuses_a_run_that_is_not_a_parameter_set_and_extensions(ct09, bad):
+    """A malformed run is named by its index before NEURON builds anything (not Python's unpacking error)."""
+    run = {"ct09": ct09, "ct09-ext-extra": (ct09, None, None), "dict-params": (dict(ct09), None),
+           "ext-not-mapping": (ct09, "fatigue")}[bad]
+    with pytest.raises(InputError, match=r"simulate_batch: run 1 must be a \(ParameterSet, extensions or None\) pair"):
+        simulate_batch([(ct09, None), run], [10.0], -6.0, 100.0)
