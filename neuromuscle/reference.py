@@ -112,7 +112,7 @@ def _ports(mod: Mapping[str, Callable[[float], float]] | StateModulation, t: flo
 def _rhs(t: float, y: np.ndarray, p: Mapping[str, float], spikes: np.ndarray, trace: LengthTrace,
          lencomp: bool, movement: tuple[bool, bool],
          mod: Mapping[str, Callable[[float], float]] | StateModulation, seg_start: float) -> list[float]:
-    CaSR, CaSRCS, CaSP, CaSPB, CaSPT, At, u = y[:7]
+    CaSR, CaSRCS, CaSP, CaSPB, CaSPT, At, u = y[:7]  # u = y[_SE_STATE]
     x = float(np.interp(t, trace.t_ms, trace.xm_mm))
     ext = u + (x - float(trace.xm_mm[0]))  # the SE extension Xm - XCE (mm): see _SE_STATE
     v = float(np.interp(t, trace.t_ms, trace.velocity_mm_s))  # the played Vm of eq 20
@@ -211,7 +211,7 @@ def reference_simulate(params: ParameterSet, spikes_ms: np.ndarray, length: Leng
     A = np.array([activation(a, ti, xi, vi, p, movement, trace.onset_ms, at_onset=False)
                   for a, ti, xi, vi in zip(Y[5], t, x, v)])
     Y[_SE_STATE] = Y[_SE_STATE] + (x - float(trace.xm_mm[0]))  # u -> the SE extension Xm - XCE (mm)
-    fse = p["P0"] * p["KSE"] * np.maximum(Y[6], 0.0)
+    fse = p["P0"] * p["KSE"] * np.maximum(Y[_SE_STATE], 0.0)
     F = fse + np.array([_ports(mod, ti, Y[:, i], Observables(A[i], x[i], v[i], fse[i], p))["force_offset"]
                         for i, ti in enumerate(t)])
     names = ("CaSR", "CaSRCS", "CaSP", "CaSPB", "CaSPT")

@@ -30,8 +30,9 @@ def test_random_length_fixed_step_within_half_percent_of_cvode(ct09, seed, mc):
 def test_random_length_against_scipy(ct09, seed, mc):
     """The seed's random-length protocol (20 Hz from 200 ms, 900 ms), eqs 19-20 off and on, against the
     independent SciPy integration: both integrators within 0.5 % of peak (measured at stop 33: fixed
-    0.014-0.033 %, CVODE 0.002-0.004 %; seed 1 with eqs 19-20 was 12 % of peak off CVODE before the backward-Euler CE step).  ~10 s
-    each since the reference's SE state stopped jumping at every length sample (stop 33; ~2 min before)."""
+    0.014-0.033 %, CVODE 0.002-0.004 %; seed 1 with eqs 19-20 was 12 % of peak off CVODE before the
+    backward-Euler CE step).  ~10 s each since the reference's SE state stopped jumping at every length sample
+    (stop 33; ~2 min before)."""
     spikes, trace = constant_rate(20, 700.0, start_ms=200.0), random_length(900.0, seed=seed)
     ref = reference_simulate(ct09, spikes, trace, 900.0, record_dt_ms=0.5, movement_compensation=mc, rtol=1e-7)
     for method in ("fixed", "cvode"):
