@@ -1,36 +1,43 @@
 COMMENT
 Model extension "relaxation_rate" (shared/spec/diagnosis.md: the model relaxes slower or faster than the data; the
-re-uptake adjustment): the SR pump (eq 4) changes its speed over the relaxation after each spike.  A state W (1)
-is reset to 0 by every spike and recovers towards 1 with time constant tau; the pump is multiplied by 1 + k W.
-So k > 0 is a pump that speeds up late after a spike (relaxation faster than the model's once the Ca2+ transient
-has peaked), k < 0 one that slows down late; during a fused tetanus W stays near 0 and nothing changes.
+re-uptake adjustment): the SR pump (eq 4) changes its speed with recent activity.  An activity state X (1) is 0 at
+rest, every spike raises it by the fraction d of what is left to 1, and it decays with time constant tau; the pump
+is multiplied by 1 - k X.  So the pump at rest, and in the late relaxation of a lone twitch, is the model's own
+(Umax keeps its meaning), and k > 0 is Ca2+ removal slowed by recent activity (relaxation after a tetanus slower
+than the model's: parvalbumin saturating and the SR loading in fast muscle), k < 0 removal sped up by it.
 
-Equations (units: k 1, tau ms, t ms):
-    dW/dt = (1 - W) / tau                         between spikes; W = 1 at rest (INITIAL: long since a spike)
-    W -> (1 - w) W                                at a spike of NetCon weight w (1 for one spike: W -> 0)
-    gain = 1 + k W                                drives KimCa's uptake_gain port: U = gain Umax (...)^2
-After a single spike at t0, W = 1 - exp(-(t - t0)/tau) (a first-order recovery; synth's hidden relaxation effect
-is a third-order Hill function of the time since the last spike, a different form: docs/synth.md).
-A constant factor on the pump (this extension's form until stop 21, with a factor on tau_A) recalibrated Module 1:
-synth moves every preparation's pump by ~20 %, so it named calibration misfit, and a factor on tau_A is Module 2's
-C3, which the reference and every candidate's fit refit anyway.
+Equations (units: k 1, tau ms, d 1, t ms):
+    dX/dt = -X / tau                              between spikes; X = 0 at rest (INITIAL: long since a spike)
+    X -> X + d w (1 - X)                          at a spike of NetCon weight w (1 per spike)
+    gain = 1 - k X                                drives KimCa's uptake_gain port: U = gain Umax (...)^2
+With d = 1 every spike sets X to 1 and the pump's course after a tetanus is that after a twitch: a pump changed
+early after each spike and back to the model's late in the relaxation.  With d < 1 a lone twitch raises X only to
+d and a high-rate train towards 1, so the change grows with the recent spike count and outlasts a train by ~tau:
+no constant Module 1 parameter gives that (a constant factor on the pump is Umax).  After one spike at t0,
+X = d exp(-(t - t0)/tau).  synth's hidden relaxation effect is another form: the pump divided by 1 + a L, L a
+second-order Hill function of a leaky spike count (docs/synth.md).
+Until stop 34 the form was gain = 1 + k W with W = 1 - X and d = 1: the same family up to a factor on the pump, but
+the diagnosis's candidate fits do not refit Umax, so that form's default (k = 0.5) started every fit with the pump
+1.5x faster at rest and it did not recover in ten iterations.  Until stop 21 it was two constant factors (on the
+pump and on tau_A): calibration, not a cause (a factor on tau_A is Module 2's C3, refitted anyway).
 With k = 0 (its neutral value) gain is exactly 1: the unit is bit-identical to the baseline.
-Bounds (neuromuscle/model/extensions/relaxation_rate.py): k in [-0.7, 3], tau in [5, 500] ms.
+Bounds (neuromuscle/model/extensions/relaxation_rate.py): k in [-2, 0.95], tau in [5, 500] ms, d in [0.02, 1].
 Coupling: receives the unit's spikes (NET_RECEIVE); exposes RANGE gain (1) for POINTER KimCa.uptake_gain.  KimCa
 reads the gain only in its next state update, after every event of that time is delivered.
-Numerics: linear relaxation, METHOD cnexp exact between spikes in fixed step; CVODE integrates the same
-DERIVATIVE; the reset is an event.  O(1) per step whatever the spike count.
+Numerics: linear decay, METHOD cnexp exact between spikes in fixed step; CVODE integrates the same DERIVATIVE; the
+jump is an event.  O(1) per step whatever the spike count.
 ENDCOMMENT
 
 NEURON {
     POINT_PROCESS ExtRelaxation
     THREADSAFE
-    RANGE k, tau, gain
+    RANGE k, tau, d, gain
 }
 
 PARAMETER {
-    k = 0.5 (1)
-    tau = 50 (ms)
+    k = 0.3 (1)
+    tau = 300 (ms)
+    d = 0.1 (1)
 }
 
 ASSIGNED {
@@ -38,12 +45,12 @@ ASSIGNED {
 }
 
 STATE {
-    W (1)
+    X (1)
 }
 
 INITIAL {
-    W = 1
-    gain = 1 + k
+    X = 0
+    gain = 1
 }
 
 BREAKPOINT {
@@ -51,11 +58,11 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
-    W' = (1 - W)/tau
-    gain = 1 + k*W
+    X' = -X/tau
+    gain = 1 - k*X
 }
 
 NET_RECEIVE(w (1)) {
-    W = (1 - w)*W
-    gain = 1 + k*W
+    X = X + d*w*(1 - X)
+    gain = 1 - k*X
 }
