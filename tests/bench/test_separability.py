@@ -24,14 +24,21 @@ def test_an_effect_absent_from_the_trials_is_exactly_zero_so_the_noise_cancels()
     assert s.chi2_effect == 0.0 and s.chi2_unabsorbed == 0.0 and s.chi2_with_extension == 0.0
 
 
-def test_the_late_pump_speed_up_is_left_by_the_refits_and_taken_by_the_relaxation_extension():
-    s = separability("relaxation_rate", 0.9, 5, 1.5, trials=["twitch_opt", "train3_opt", "train10_opt"])
+def test_the_slowed_removal_after_trains_is_left_by_the_refits_in_part_and_taken_by_the_relaxation_extension():
+    """synth's hidden relaxation effect (removal slowed with the recent spike count): to first order, the refits
+    absorb most of it on a twitch and two trains at the optimum (measured: 6179 -> 145 noise variances), and the
+    cause's extension takes a share of what is left (measured 43 %, at tau 1000 ms)."""
+    s = separability("relaxation_rate", 0.9, 5, 1.5, trials=["twitch_opt", "train10_opt", "train100_opt"])
     assert s.chi2_effect > 100.0  # a visible effect ...
     assert 0.0 < s.chi2_unabsorbed < s.chi2_effect  # ... that the refits absorb only in part ...
     assert s.chi2_with_extension is not None and s.chi2_with_extension <= s.chi2_unabsorbed
-    assert s.captured is not None and s.captured > 0.5  # ... and the cause's extension takes most of the rest
+    assert s.captured is not None and s.captured > 0.25  # ... and the cause's extension takes a share of the rest
     assert set(s.extension_setting) == {"relaxation_rate.tau"}
-    assert list(s.trials) and all(e >= u >= 0.0 for e, u in s.trials.values())
+    # per trial, the effect and what is left add up to the totals (a trial may be left more than its own effect:
+    # the refit moves the twitch to fit the trains)
+    e, u = np.array(list(s.trials.values())).T
+    assert e.sum() == pytest.approx(s.chi2_effect) and u.sum() == pytest.approx(s.chi2_unabsorbed) and u.min() >= 0
+    assert list(s.trials)[0] == "train100_opt"  # the largest unabsorbed first
     assert table_lines([s])[-1].startswith("| relaxation_rate | 0.90 | 5 |")
 
 
