@@ -15,7 +15,7 @@ early after each spike and back to the model's late in the relaxation.  With d <
 d and a high-rate train towards 1, so the change grows with the recent spike count and outlasts a train by ~tau:
 no constant Module 1 parameter gives that (a constant factor on the pump is Umax).  After one spike at t0,
 X = d exp(-(t - t0)/tau).  synth's hidden relaxation effect is another form: the pump divided by 1 + a L, L a
-second-order Hill function of a leaky spike count (docs/synth.md).
+first-order Hill function of a leaky spike count (docs/synth.md).
 Until stop 34 the form was gain = 1 + k W with W = 1 - X and d = 1: the same family up to a factor on the pump, but
 the diagnosis's candidate fits do not refit Umax, so that form's default (k = 0.5) started every fit with the pump
 1.5x faster at rest and it did not recover in ten iterations.  Until stop 21 it was two constant factors (on the

@@ -123,15 +123,6 @@ def _leaky_at(t: np.ndarray, spikes: np.ndarray, weights: np.ndarray, tau_ms: fl
     return out
 
 
-def _since_last_spike(t: np.ndarray, spikes: np.ndarray) -> np.ndarray:
-    """Time (ms) since the latest spike at or before t; inf before the first."""
-    k = np.searchsorted(spikes, t, side="right") - 1
-    out = np.full(t.shape, np.inf)
-    on = k >= 0
-    out[on] = t[on] - spikes[k[on]]
-    return out
-
-
 def activity_envelope(inp: TrialInput) -> np.ndarray:
     """How active the muscle is (0-1) on ``inp.t_ms``: r^2/(r^2 + 15^2) for the stimulation rate r (Hz, from
     the interval before the latest spike; the first spike takes the next interval, a lone spike counts as

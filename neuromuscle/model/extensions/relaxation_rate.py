@@ -6,16 +6,19 @@ lone twitch's relaxation, is the model's own; k > 0: removal slowed by recent ac
 slowly than the model's: parvalbumin saturating and the SR loading in fast muscle); k < 0: sped up by it.  With
 d = 1 every spike sets X to 1 (the pump changed early after each spike, whatever came before); with d < 1 a
 twitch raises X to d and a high-rate train towards 1, which no constant Module 1 parameter gives.
-Neutral: k = 0.  Bounds: k in [-2, 0.95] (the pump at full activity 0.05x to 3x its resting rate; X stays below
-~0.8 in a 100 Hz train when d is small, where k = 0.95 gives 0.24x: SERCA rates differ ~3x between fibre types and
-over 10 degC, and parvalbumin speeds a fast fibre's twitch relaxation several-fold until it saturates; with the
-bound at 0.8, suite seeds 1 and 2's relaxation fits ended on it); tau 5-500 ms (relaxation's slow, linear phase lasts tens of ms in mammalian fast muscle and
-hundreds in slow; a state that outlasts half a second is a staircase's or a potentiation's, whose extensions start
-at 0.5 s and 5 s: with tau up to 1 s this extension fitted suite staircase data better than the staircase's own, at
-tau ~1 s, and named seed 4's staircase relaxation_rate); d in [0.02, 1] (per spike; at 0.02 a
-1 s train at 100 Hz raises X to ~0.8 with tau = 500 ms).  Defaults (the fits' start): k 0.3, tau 300 ms, d 0.1, so
-a twitch raises X to 0.1, a 20 Hz train to ~0.42 and a 100 Hz one to ~0.77 (with d 0.3 as the default, suite seed
-1's relaxation preparation screened fourth, behind PAP by 23 noise variances, and was left unfitted).
+Neutral: k = 0.  Bounds:
+- k in [-2, 0.95]: the pump at full activity 0.05x to 3x its resting rate.  X stays below ~0.8 in a 100 Hz train
+  when d is small, where k = 0.95 gives 0.24x.  SERCA rates differ ~3x between fibre types and over 10 degC, and
+  parvalbumin speeds a fast fibre's twitch relaxation several-fold until it saturates.  With the bound at 0.8,
+  suite seeds 1 and 2's relaxation fits ended on it.
+- tau in [5, 500] ms: relaxation's slow, linear phase lasts tens of ms in mammalian fast muscle and hundreds in
+  slow.  A state that outlasts half a second is a staircase's or a potentiation's, whose extensions start at 0.5 s
+  and 5 s: with tau up to 1 s this extension fitted suite staircase data better than the staircase's own, at tau
+  ~1 s, and named seed 4's staircase relaxation_rate.
+- d in [0.02, 1] per spike: at 0.02 a 1 s train at 100 Hz raises X to ~0.5 with tau = 500 ms.
+Defaults (the fits' start): k 0.3, tau 300 ms, d 0.1, so a twitch raises X to 0.1, a 20 Hz train to ~0.42 and a
+100 Hz one to ~0.77.  (With tau 200 ms and d 0.3 as the defaults, and stop 34's first hidden form, suite seed 1's
+relaxation preparation screened fourth, behind PAP by 23 noise variances, and was left unfitted.)
 
 Until stop 34 the gain was 1 + k W, W = 1 - X, with d = 1 (the pump changed late after each spike): the same
 family up to a factor on the pump, but the candidates' fits do not refit Umax, and that form's default (k = 0.5)
