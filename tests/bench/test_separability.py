@@ -26,8 +26,8 @@ def test_an_effect_absent_from_the_trials_is_exactly_zero_so_the_noise_cancels()
 
 def test_the_slowed_removal_after_trains_is_left_by_the_refits_in_part_and_taken_by_the_relaxation_extension():
     """synth's hidden relaxation effect (removal slowed with the recent spike count): to first order, the refits
-    absorb most of it on a twitch and two trains at the optimum (measured: 6179 -> 145 noise variances), and the
-    cause's extension takes a share of what is left (measured 43 %, at tau 1000 ms)."""
+    absorb most of it on a twitch and two trains at the optimum (measured: 8284 -> 82 noise variances), and the
+    cause's extension takes a share of what is left (measured 29 %, at tau 500 ms, its bound)."""
     s = separability("relaxation_rate", 0.9, 5, 1.5, trials=["twitch_opt", "train10_opt", "train100_opt"])
     assert s.chi2_effect > 100.0  # a visible effect ...
     assert 0.0 < s.chi2_unabsorbed < s.chi2_effect  # ... that the refits absorb only in part ...
