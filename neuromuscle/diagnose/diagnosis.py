@@ -24,7 +24,8 @@ from .extension_fit import ExtensionFit, available, fit_extension, fit_reference
 from .residuals import Noise, Structure, explanatory_variables, noise_level, residual_structure, rest_trend_z
 from .screening import Screen, screen
 from .split import Split, automatic_split, given_split
-from .verdict import ACTIVE_STRUCTURE_RATIO, Evidence, is_unexplained, judge, rest_left, structured_trials
+from .verdict import (ACTIVE_STRUCTURE_RATIO, Evidence, choose, is_unexplained, judge, rest_left,
+                      structured_trials)
 
 #: Most candidates fitted: testable ones with an extension in the catalogue whose linearised gain at the reference
 #: beats its BIC penalty (:mod:`.screening`), best first.  One whose effect cannot lower the calibration trials'
@@ -138,14 +139,14 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
         if left:
             evidence[name].failed.append(left)
         _say(progress, f"  {name}: {evidence[name].text()}")
-    passing = [n for n in to_fit if evidence[n].passed]
-    if passing:
-        verdict = max(passing, key=lambda n: evidence[n].chi2_gain)
-    final = fits[verdict].simulated if passing else reference.simulated
+    named = choose(evidence)  # the passing candidate that fits the whole file best, or None
+    final = fits[named].simulated if named is not None else reference.simulated
     structured = structured_trials(measured, final, noise)
     after = residual_structure(data.trials, {i: final[i] - measured[i] for i in structured}, variables)
-    rest = rests[verdict] if passing else rest_of(final)
-    if not passing:
+    rest = rests[named] if named is not None else rest_of(final)
+    if named is not None:
+        verdict = named
+    else:
         active = structured_trials(measured, final, noise, ACTIVE_STRUCTURE_RATIO)
         verdict = "unexplained" if rest_left(rest) or is_unexplained(active, len(data.trials)) else "none"
     _say(progress, f"verdict: {verdict}")

@@ -78,7 +78,7 @@ def _mean_nrmse(d: Diagnosis, sims: dict[str, np.ndarray], ids: Sequence[str]) -
 
 def _cause_entries(d: Diagnosis) -> list[dict[str, Any]]:
     before = _mean_nrmse(d, d.reference.simulated, d.split.heldout)
-    fitted = sorted(d.fits, key=lambda n: (not d.evidence[n].passed, -d.evidence[n].chi2_gain))
+    fitted = sorted(d.fits, key=lambda n: (not d.evidence[n].passed, -d.evidence[n].whole_file_score))
     entries = []
     for n in fitted:
         f, ev = d.fits[n], d.evidence[n]
@@ -227,6 +227,12 @@ def markdown(doc: dict[str, Any]) -> str:
         lines += [f"**Verdict: {v}.** Held-out NRMSE {c['nrmse_heldout_before']:.2f} % -> "
                   f"{c['nrmse_heldout_after']:.2f} % (mean over held-out trials).", "", f"Evidence: {c['evidence']}.",
                   ""]
+        rivals = [r for r in fitted if r["name"] != v and r["statistics"]["passed"]]
+        if rivals:
+            score = lambda e: f"{e['name']} {e['statistics']['whole_file_score']:.1f}"
+            lines += [f"Also passing every rule: {', '.join(r['name'] for r in rivals)}. The verdict is the passing "
+                      f"candidate that fits the whole file best (held-out plus calibration chi2 gain, each less its "
+                      f"BIC penalty): {'; '.join(score(e) for e in [c, *rivals])}.", ""]
         lines += table(("parameter", "value", "unit", "95 % interval", "neutral"),
                        ((q, sig(p["value"], 4), p["unit"], f"[{sig(p['ci95'][0], 4)}, {sig(p['ci95'][1], 4)}]",
                          sig(p["neutral"])) for q, p in c["parameters"].items()))

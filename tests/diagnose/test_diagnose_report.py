@@ -7,6 +7,7 @@ import pytest
 from neuromuscle.cli import main
 from neuromuscle.diagnose import REPORT_FILES, SCHEMA, run_diagnosis
 from neuromuscle.diagnose.candidates import CAUSES
+from neuromuscle.diagnose.report import markdown
 from neuromuscle.errors import InputError
 from neuromuscle.parameters import load_parameters
 
@@ -45,6 +46,27 @@ def test_report_md_verdict_first_and_figures(null_files):
     assert doc["figures"] and all((out / p).is_file() for p in doc["figures"].values())
     assert "residual" in doc["figures"]
     load_parameters(out / "params.json")
+
+
+def test_report_md_names_the_other_passing_candidates(null_files):
+    """When a second candidate passes every rule, report.md says so and gives both whole-file scores (the verdict
+    is the larger, verdict.choose)."""
+    _, _, doc = null_files
+    doc = json.loads(json.dumps(doc))
+
+    def cause(name, passed, score):
+        return {"name": name, "fitted": True, "evidence": "...", "parameters": {}, "nrmse_heldout_before": 3.0,
+                "nrmse_heldout_after": 2.0, "statistics": {"passed": passed, "whole_file_score": score}}
+
+    doc["verdict"] = "staircase"
+    doc["causes"] = [cause("staircase", True, 5371.5), cause("relaxation_rate", True, 4091.2),
+                     cause("fatigue", False, 9999.0)]
+    text = markdown(doc)
+    assert "**Verdict: staircase.**" in text
+    assert "Also passing every rule: relaxation_rate." in text and "staircase 5371.5; relaxation_rate 4091.2" in text
+    assert "fatigue 9999" not in text
+    doc["causes"] = doc["causes"][:1]
+    assert "Also passing" not in markdown(doc)
 
 
 def test_refuses_to_overwrite(null_files):
