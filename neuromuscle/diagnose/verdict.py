@@ -38,12 +38,12 @@ trials.
 
 The verdict is the passing candidate that fits the whole file best (:func:`choose`): the largest sum of its
 held-out dX2 and its calibration chi-square gain, each less its BIC penalty.  Until stop 35 it was the largest dX2
-alone, which judges two candidates that have both shown a held-out gain beyond noise on half of the file: suite
-seed 4's staircase case named relaxation_rate (held out 1230 against the staircase's 916) though the staircase
-fitted the calibration trials better by 1593 (whole file: 5416 against 4136).  The rules above still decide
-whether a candidate can be named at all; the calibration half only ranks the candidates that pass.  With none, the verdict is "unexplained" when
-structure beyond noise remains that calibration cannot remove, in at least max(``MIN_STRUCTURED_TRIALS`` = 3,
-``MIN_STRUCTURED_FRACTION`` = 20 %) of the trials that can show it, either
+alone, which ranks two candidates that have both shown a held-out gain beyond noise by half of the file: suite seed
+4's staircase case was named relaxation_rate (held out 1230 against the staircase's 916) though the staircase
+fitted the calibration trials better by 1593 (whole file before penalties: 5416 against 4136).  The rules above
+still decide whether a candidate can be named at all; the calibration half only ranks the candidates that pass.
+With none, the verdict is "unexplained" when structure beyond noise remains that calibration cannot remove, in at
+least max(``MIN_STRUCTURED_TRIALS`` = 3, ``MIN_STRUCTURED_FRACTION`` = 20 %) of the trials that can show it, either
 
 * at rest (:func:`.residuals.rest_trend_z`): the residual trends in time where the model's muscle is quiet,
   |z| > ``REST_Z`` = 3 (p = 0.003 per trial under the noise); no muscle parameter acts there, or
