@@ -229,10 +229,10 @@ def markdown(doc: dict[str, Any]) -> str:
                   ""]
         rivals = [r for r in fitted if r["name"] != v and r["statistics"]["passed"]]
         if rivals:
-            score = lambda e: f"{e['name']} {e['statistics']['whole_file_score']:.1f}"
+            scores = "; ".join(f"{e['name']} {e['statistics']['whole_file_score']:.1f}" for e in [c, *rivals])
             lines += [f"Also passing every rule: {', '.join(r['name'] for r in rivals)}. The verdict is the passing "
                       f"candidate that fits the whole file best (held-out plus calibration chi2 gain, each less its "
-                      f"BIC penalty): {'; '.join(score(e) for e in [c, *rivals])}.", ""]
+                      f"BIC penalty): {scores}.", ""]
         lines += table(("parameter", "value", "unit", "95 % interval", "neutral"),
                        ((q, sig(p["value"], 4), p["unit"], f"[{sig(p['ci95'][0], 4)}, {sig(p['ci95'][1], 4)}]",
                          sig(p["neutral"])) for q, p in c["parameters"].items()))
