@@ -98,13 +98,15 @@ def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
 
 
 def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 0, workers: int = 2,
-              progress: bool = False, journal: str | None = None, first: int = 1) -> dict[str, Any]:
+              progress: bool = False, journal: str | None = None, first: int = 1,
+              protocols: str = "standard") -> dict[str, Any]:
     """Make and diagnose every case of ``suite_cases`` (blind) and return {"cases": [...], **score}; each case
     records its draw, the verdict, the held-out gain of the named extension (if any), each fitted candidate's
     held-out chi-square gain and the rules it failed, every testable extension's screening score, the trials
     still structured under the verdict's model and the wall time (s).  journal: a file to which each case's
     record is appended as one JSON line when it is done (a long suite's finished cases survive an interrupt);
-    first: the case (1-based, in ``suite_cases`` order) to start from, to resume an interrupted suite."""
+    first: the case (1-based, in ``suite_cases`` order) to start from, to resume an interrupted suite.  protocols:
+    synth's protocol set ("standard" or "extended"; the draws are the same in both)."""
     from ..diagnose.diagnosis import diagnose_data
     from ..diagnose.verdict import rest_structured
     from ..synth import make_dataset, without_truth
@@ -116,7 +118,7 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
     for k, case in enumerate(cases[first - 1:], first):
         t0 = time.perf_counter()
         data = make_dataset(None if case.cause == "none" else case.cause, case.strength, case.seed,
-                            noise_pct=case.noise_pct, workers=workers)
+                            noise_pct=case.noise_pct, workers=workers, protocols=protocols)
         try:
             d = diagnose_data(without_truth(data), workers=workers)
         except (InputError, NumericalError) as e:  # one case's failure is recorded, and the suite goes on
@@ -144,7 +146,8 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
             print(f"neuromuscle bench diagnose --suite: {k}/{len(cases)} {case.cause} (strength "
                   f"{case.strength:.2f}, noise {case.noise_pct:.2f} %, seed {case.seed}) -> {d.verdict} "
                   f"({row['wall_s']:.0f} s)", file=sys.stderr, flush=True)
-    return {"n_seeds": n_seeds, "seed": seed, "workers": workers, "cases": results, **score(results)}
+    return {"n_seeds": n_seeds, "seed": seed, "workers": workers, "protocols": protocols, "cases": results,
+            **score(results)}
 
 
 def table_lines(res: dict[str, Any]) -> list[str]:

@@ -76,9 +76,10 @@ def _residual_after(r: np.ndarray, J: np.ndarray) -> np.ndarray:
 
 
 def separability(cause: str, strength: float, seed: int, noise_pct: float, *, workers: int = 1,
-                 trials: Sequence[str] | None = None) -> Separability:
+                 trials: Sequence[str] | None = None, protocols: str = "standard") -> Separability:
     """The first-order separability of hidden effect ``cause`` at ``strength`` (0-1) in the preparation of dataset
-    seed ``seed`` with noise ``noise_pct`` (% of P0); ``trials``: a subset of the standard protocol ids."""
+    seed ``seed`` with noise ``noise_pct`` (% of P0); ``protocols``: synth's protocol set, ``trials``: a subset of
+    its ids."""
     from ..diagnose.baseline import OPTIONS
     from ..diagnose.extension_fit import REFERENCE_FREE
     from ..diagnose.residuals import Noise
@@ -90,8 +91,10 @@ def separability(cause: str, strength: float, seed: int, noise_pct: float, *, wo
 
     if cause == "none":
         raise InputError("separability needs a hidden effect, not 'none'")
-    with_effect = make_dataset(cause, strength, seed, noise_pct=noise_pct, workers=workers, trials=trials)
-    null = make_dataset(None, strength, seed, noise_pct=noise_pct, workers=workers, trials=trials)
+    with_effect = make_dataset(cause, strength, seed, noise_pct=noise_pct, workers=workers, trials=trials,
+                               protocols=protocols)
+    null = make_dataset(None, strength, seed, noise_pct=noise_pct, workers=workers, trials=trials,
+                        protocols=protocols)
     tr = truth(with_effect)
     P = tr["parameters"]
     sd, tau = float(tr["noise_sd_N"]), float(tr["noise_tau_ms"])
@@ -158,7 +161,8 @@ def table_lines(rows: Sequence[Separability]) -> list[str]:
 
 
 def run_separability(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 0, workers: int = 2,
-                     first: int = 1, journal: str | None = None, progress: bool = True) -> list[Separability]:
+                     first: int = 1, journal: str | None = None, progress: bool = True,
+                     protocols: str = "standard") -> list[Separability]:
     """:func:`separability` of the suite's cases (``diagnose_suite.suite_cases``, the same draws; nulls skipped),
     from case ``first`` (1-based), each appended to ``journal`` as a JSON line when given."""
     import json
@@ -172,7 +176,7 @@ def run_separability(n_seeds: int, *, causes: Sequence[str] | None = None, seed:
         raise InputError(f"the first case must be between 1 and {len(cases)} (nulls are skipped), got {first!r}")
     out = []
     for k, c in enumerate(cases[first - 1:], first):
-        s = separability(c.cause, c.strength, c.seed, c.noise_pct, workers=workers)
+        s = separability(c.cause, c.strength, c.seed, c.noise_pct, workers=workers, protocols=protocols)
         out.append(s)
         if progress:
             print(f"[separability] {k}/{len(cases)} {table_lines([s])[-1]}", file=sys.stderr, flush=True)

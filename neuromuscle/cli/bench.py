@@ -41,6 +41,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bd.add_argument("--separability", action="store_true",
                     help="with --suite: instead of diagnosing, how far each case's hidden effect can be told from "
                          "calibration, to first order at the truth (about 1 min a case)")
+    bd.add_argument("--protocols", default="standard",
+                    help="with --suite: synth's protocol set, standard (28 trials) or extended (34; the same draws)")
     bd.add_argument("--json", action="store_true")
     bd.set_defaults(func=run_diagnose)
     bi = bsub.add_parser("intervals", help="coverage of the fit's 95 %% intervals on SciPy reference data with "
@@ -133,23 +135,26 @@ def run_diagnose(args: argparse.Namespace) -> int:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
     if args.suite is not None:
         from ..bench.diagnose_suite import run_suite, suite_cases, table_lines
+        from ..synth.protocols import protocol_set
 
         causes = [c.strip() for c in args.causes.split(",") if c.strip()] if args.causes else None
         suite_cases(args.suite, causes, args.seed)  # bad input refused before any work
+        protocol_set(args.protocols, 0.0)
         if args.separability:
             from ..bench.separability import run_separability, table_lines as separability_lines
 
             rows = run_separability(args.suite, causes=causes, seed=args.seed, workers=args.workers,
-                                    first=args.first, journal=args.journal)
+                                    first=args.first, journal=args.journal, protocols=args.protocols)
             print(json.dumps([s.to_json() for s in rows], indent=2) if args.json else
                   "\n".join(separability_lines(rows)))
             return 0
         res = run_suite(args.suite, causes=causes, seed=args.seed, workers=args.workers, progress=True,
-                        journal=args.journal, first=args.first)
+                        journal=args.journal, first=args.first, protocols=args.protocols)
         print(json.dumps(res, indent=2) if args.json else "\n".join(table_lines(res)))
         return 0
-    if args.causes is not None or args.journal is not None or args.first != 1 or args.separability:
-        raise InputError("--causes, --journal, --first and --separability need --suite")
+    if (args.causes is not None or args.journal is not None or args.first != 1 or args.separability
+            or args.protocols != "standard"):
+        raise InputError("--causes, --journal, --first, --protocols and --separability need --suite")
     _print(bench_diagnose(args.workers), args.json)
     return 0
 

@@ -1,4 +1,5 @@
-"""``neuromuscle synth --cause NAME|none --strength S --seed N --noise PCT --out FILE.h5 [--overwrite]``: write a
+"""``neuromuscle synth --cause NAME|none --strength S --seed N --noise PCT --out FILE.h5
+[--protocols standard|extended] [--overwrite]``: write a
 synthetic preparation with one hidden effect (``neuromuscle.synth``); ``neuromuscle synth --list`` lists the
 causes and their strength ranges."""
 
@@ -21,6 +22,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     sp.add_argument("--variation", type=float, default=0.2,
                     help="log-sd of the per-parameter factors around CT09 (0.2: about 20 %%)")
     sp.add_argument("--workers", type=int, default=1, help="processes simulating trials")
+    sp.add_argument("--protocols", default="standard",
+                    help="the protocol set: standard (28 trials, ~92 s) or extended (34 trials, ~118 s: the standard "
+                         "ones plus twitch series, post-tetanic probes and cyclic length)")
     sp.add_argument("--out", help="the HDF5 file to write")
     sp.add_argument("--overwrite", action="store_true", help="replace an existing file")
     sp.set_defaults(func=run)
@@ -52,6 +56,6 @@ def run(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     path = write_dataset(args.out, args.cause, args.strength, args.seed, overwrite=args.overwrite,
                          noise_pct=args.noise, noise_tau_ms=args.noise_tau_ms, variation=args.variation,
-                         workers=args.workers)
+                         workers=args.workers, protocols=args.protocols)
     print(f"wrote {path} ({time.perf_counter() - start:.1f} s); the hidden truth is in its /synth group")
     return 0

@@ -15,7 +15,8 @@ find it.
 
 from .dataset import TRUTH_PATH, cause_names, make_dataset, trial_input, truth, without_truth, write_dataset
 from .effects import ALL, CAUSES, OUTSIDE, HiddenEffect, hidden_effect
-from .protocols import standard_protocols
+from .protocols import PROTOCOL_SETS, extended_protocols, protocol_set, standard_protocols
 
-__all__ = ["ALL", "CAUSES", "OUTSIDE", "TRUTH_PATH", "HiddenEffect", "cause_names", "hidden_effect", "make_dataset",
-           "standard_protocols", "trial_input", "truth", "without_truth", "write_dataset"]
+__all__ = ["ALL", "CAUSES", "OUTSIDE", "PROTOCOL_SETS", "TRUTH_PATH", "HiddenEffect", "cause_names",
+           "extended_protocols", "hidden_effect", "make_dataset", "protocol_set", "standard_protocols", "trial_input",
+           "truth", "without_truth", "write_dataset"]

@@ -27,7 +27,7 @@ from ..parameters import ParameterSet, load_parameters, registry
 from ..reports.outdir import refuse_existing_file
 from .effects import ALL, GRID_MS, TrialInput, hidden_effect, modulation, transducer_drift
 from .play import played_models
-from .protocols import PlannedTrial, standard_protocols
+from .protocols import PlannedTrial, protocol_set
 from .variation import draw_preparation
 
 TRUTH_PATH = "/synth"
@@ -122,7 +122,7 @@ def _static_points(params: ParameterSet, optimum_mm: float, sd_N: float,
 
 def make_dataset(cause: str | None, strength: float, seed: int, noise_pct: float = 1.5, variation: float = 0.2, *,
                  noise_tau_ms: float = 5.0, base: str = "CT09", dt_ms: float = DT_MS, workers: int = 1,
-                 trials: Sequence[str] | None = None) -> MeasuredData:
+                 trials: Sequence[str] | None = None, protocols: str = "standard") -> MeasuredData:
     """A synthetic preparation in the measured-data layout (write it with ``write_measured`` or
     :func:`write_dataset`).
 
@@ -131,18 +131,19 @@ def make_dataset(cause: str | None, strength: float, seed: int, noise_pct: float
     seed: integer >= 0 (parameters, noise and drift come from independent streams of it).  noise_pct: sd of
     the AR(1) transducer noise in % of the preparation's P0 (N), correlation time noise_tau_ms (ms).
     variation: log-sd of the per-parameter factors around ``base``.  dt_ms: the fixed step (ms) of the NEURON
-    runs.  workers: processes simulating trials.  trials: ids of a subset of the standard protocols (all when
-    None).  The truth (cause, strength, parameters, settings) goes into the ``/synth`` group.
+    runs.  workers: processes simulating trials.  protocols: the protocol set (``protocols.PROTOCOL_SETS``:
+    "standard", 28 trials, or "extended", 34, whose first 28 trials and their noise are the standard's).  trials: ids
+    of a subset of the set (all when None).  The truth (cause, strength, parameters, settings) goes into the ``/synth`` group.
     """
     name = _check_settings(cause, strength, seed, noise_pct, noise_tau_ms, workers)
     params, n_draws = draw_preparation(load_parameters(base), variation, np.random.default_rng([seed, 0]),
                                        name=f"synth-seed{seed}")
     optimum = round(float(params["g1"]), 1)
-    plan = standard_protocols(optimum)
+    plan = protocol_set(protocols, optimum)
     if trials is not None:
         unknown = sorted(set(trials) - {p.trial_id for p in plan})
         if unknown:
-            raise InputError(f"trial(s) {unknown} are not in the standard protocol set "
+            raise InputError(f"trial(s) {unknown} are not in the {protocols} protocol set "
                              f"({', '.join(p.trial_id for p in plan)})")
         plan = [p for p in plan if p.trial_id in set(trials)]
     effect = None if name is None else hidden_effect(name)
@@ -163,7 +164,7 @@ def make_dataset(cause: str | None, strength: float, seed: int, noise_pct: float
         sample_ms = 1000.0 * float(tr.time_s[1] - tr.time_s[0])
         out.append(replace(tr, force=force + ar1_noise(tr.n_samples, sd_N, noise_tau_ms, sample_ms, noise_rng)))
     truth = _truth(name, effect, float(strength), amplitude, seed, noise_pct, sd_N, noise_tau_ms, variation, base,
-                   dt_ms, params, drifts)
+                   dt_ms, params, drifts, protocols)
     truth["parameter_draws"] = n_draws
     return MeasuredData(
         trials={t.trial_id: t for t in out},
@@ -178,7 +179,7 @@ def make_dataset(cause: str | None, strength: float, seed: int, noise_pct: float
 
 def _truth(name: str | None, effect: Any, strength: float, amplitude: float, seed: int, noise_pct: float,
            sd_N: float, noise_tau_ms: float, variation: float, base: str, dt_ms: float, params: ParameterSet,
-           drifts: dict[str, Any]) -> dict[str, Any]:
+           drifts: dict[str, Any], protocols: str) -> dict[str, Any]:
     from .. import __version__
     from ..model.mechanisms import loaded_mechanism_hash
 
@@ -197,7 +198,7 @@ def _truth(name: str | None, effect: Any, strength: float, amplitude: float, see
         "model": "Kim Modules 1-3, eq 18 and eqs 19-20 off",
         "simulation": json.dumps({"method": "fixed", "dt_ms": dt_ms, "settle_ms": SETTLE_MS,
                                   "record_dt_ms": RECORD_DT_MS}),
-        "protocol_set": "neuromuscle.synth.protocols.standard_protocols",
+        "protocol_set": f"neuromuscle.synth.protocols.protocol_set({protocols!r})",
         "drift": json.dumps(drifts),
     }
 

@@ -17,6 +17,18 @@ PRE_S of rest before its first stimulus.  28 trials, about 92 s of simulated tim
 * random length (band 2 Hz, between short and long, fixed seeds) during 10 and 20 Hz trains (4 s);
 * a 0.5 mm step shortening in 0.5 ms during a 100 Hz train (the series-elastic stiffness), sampled at 10 kHz.
 
+The **extended** set (``extended_protocols``, ``synth --protocols extended``: 34 trials, about 118 s) adds three
+protocols of two trials each, so that each has one trial on either side of a diagnosis's split and the standard
+trials keep their split; they target the causes whose weak cases the standard set leaves within a preparation's
+calibration misfit (docs/diagnosis.md, stop 36):
+
+* twitch series at the optimum: 6 twitches at 1 Hz and 10 at 2 Hz (a staircase, or treppe, is measured this way);
+* post-tetanic probes at the optimum: a 100 Hz (0.3 s) or 50 Hz (0.5 s) conditioning train, then twitches 0.15,
+  0.4, 1 and 2.5 s after its last stimulus (relaxation that recovers within a second after activity, against a
+  potentiation that lasts tens of seconds; the 50 Hz train loads activity with few intervals under 15 ms);
+* cyclic length: a sinusoid between short and optimal, 1 Hz during a 10 Hz train or 0.5 Hz during a 20 Hz
+  train (4 s; movement at low rates and lengthening below the optimum, every cycle).
+
 The sampling interval is SAMPLE_S (1 kHz) except for the step.  Trial attributes say what each trial is:
 ``kind`` (as ``protocol``), ``rate_hz``, ``length_label`` or ``lengths``, ``doublet_isi_ms``, ``velocity_mm_s``.
 """
@@ -28,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import InputError
 from ..protocols import isokinetic_ramp, random_length, step_shortening
 
 SAMPLE_S = 0.001
@@ -107,6 +120,52 @@ def standard_protocols(optimum_mm: float) -> list[PlannedTrial]:
                                  twitch_times_s=np.concatenate([pap[:3], pap[-4:]])))
     trials += _ramps(lengths) + _holds(lengths) + _random(lengths) + [_step(opt)]
     return trials
+
+
+def extended_protocols(optimum_mm: float) -> list[PlannedTrial]:
+    """The standard set around ``optimum_mm`` (mm), unchanged and first, then twitch series, post-tetanic probes
+    and cyclic length (module docstring)."""
+    opt = float(optimum_mm)
+    return standard_protocols(opt) + _twitch_series(opt) + _post_tetanic(opt) + _cyclic(opt - SHORT_MM, opt)
+
+
+#: The protocol sets ``synth`` can write, by name.
+PROTOCOL_SETS = {"standard": standard_protocols, "extended": extended_protocols}
+
+
+def protocol_set(name: str, optimum_mm: float) -> list[PlannedTrial]:
+    """The protocol set called ``name`` (``PROTOCOL_SETS``) around ``optimum_mm`` (mm); InputError otherwise."""
+    if name not in PROTOCOL_SETS:
+        raise InputError(f"unknown protocol set {name!r}; known: {', '.join(PROTOCOL_SETS)}")
+    return PROTOCOL_SETS[name](optimum_mm)
+
+
+def _twitch_series(opt: float) -> list[PlannedTrial]:
+    out = []
+    for rate, n in ((1.0, 6), (2.0, 10)):
+        stims = PRE_S + np.arange(n) / rate
+        out.append(_isometric(f"twitch_series{rate:g}_opt", "twitch_series", stims, opt, "optimal", rate_hz=rate))
+    return out
+
+
+def _post_tetanic(opt: float) -> list[PlannedTrial]:
+    out = []
+    for rate, train_s in ((100, 0.3), (50, 0.5)):
+        conditioning = _train(rate, train_s)
+        probes = float(conditioning[-1]) + np.array([0.15, 0.4, 1.0, 2.5])
+        out.append(_isometric(f"post_tetanic{rate}_opt", "post_tetanic", np.concatenate([conditioning, probes]), opt,
+                              "optimal", rate_hz=rate, twitch_times_s=probes))
+    return out
+
+
+def _cyclic(short: float, opt: float) -> list[PlannedTrial]:
+    out = []
+    t = _clock(PRE_S + 4.0 + POST_S)
+    for rate, cycle_hz in ((10, 1.0), (20, 0.5)):
+        x = short + (opt - short) * 0.5 * (1.0 - np.cos(2.0 * np.pi * cycle_hz * t))
+        out.append(_moving(f"cyclic{rate}", "cyclic_length", _train(rate, 4.0), t, x, rate_hz=rate,
+                           cycle_hz=cycle_hz, lengths="short <-> optimal"))
+    return out
 
 
 def _ramps(lengths: dict[str, float]) -> list[PlannedTrial]:
