@@ -132,8 +132,9 @@ def make_dataset(cause: str | None, strength: float, seed: int, noise_pct: float
     the AR(1) transducer noise in % of the preparation's P0 (N), correlation time noise_tau_ms (ms).
     variation: log-sd of the per-parameter factors around ``base``.  dt_ms: the fixed step (ms) of the NEURON
     runs.  workers: processes simulating trials.  protocols: the protocol set (``protocols.PROTOCOL_SETS``:
-    "standard", 28 trials, or "extended", 34, whose first 28 trials and their noise are the standard's).  trials: ids
-    of a subset of the set (all when None).  The truth (cause, strength, parameters, settings) goes into the ``/synth`` group.
+    "standard", 28 trials, or "extended", 34, whose first 28 trials and their noise are the standard's).
+    trials: ids of a subset of the set (all when None).  The truth (cause, strength, parameters, settings) goes
+    into the ``/synth`` group.
     """
     name = _check_settings(cause, strength, seed, noise_pct, noise_tau_ms, workers)
     params, n_draws = draw_preparation(load_parameters(base), variation, np.random.default_rng([seed, 0]),
