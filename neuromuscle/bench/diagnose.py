@@ -1,5 +1,6 @@
-"""``neuromuscle bench diagnose``: wall time of one full diagnosis of the standard synthetic file (28 trials) with 2
-workers, and of its baseline calibration alone.
+"""``neuromuscle bench diagnose``: wall time of one full diagnosis of a synthetic null file (synth's standard
+protocol set, 28 trials, or with ``--protocols extended`` its extended one, 34) with 2 workers, and of its baseline
+calibration alone.
 
 The file comes from ``neuromuscle.synth.make_dataset`` when that module exists; until then from the diagnosis
 tests' generator (``tests/diagnose/diagnose_datasets.py`` of a source checkout; a null preparation, seed 0), and
@@ -17,11 +18,12 @@ from typing import Any
 from ..errors import InputError
 
 
-def standard_data() -> tuple[Any, str]:
-    """The standard synthetic preparation (null, 28 trials) and where it came from."""
+def standard_data(protocols: str = "standard") -> tuple[Any, str]:
+    """The synthetic null preparation of seed 0 on synth's protocol set ``protocols`` and where it came from."""
     try:
         from ..synth import make_dataset  # type: ignore[attr-defined]
-        return make_dataset("none", 0.0, 0), "neuromuscle.synth.make_dataset('none', 0, seed 0)"
+        return (make_dataset("none", 0.0, 0, protocols=protocols),
+                f"neuromuscle.synth.make_dataset('none', 0, seed 0, protocols={protocols!r})")
     except ImportError:
         path = Path(__file__).resolve().parents[2] / "tests" / "diagnose" / "diagnose_datasets.py"
         if not path.is_file():
@@ -32,7 +34,7 @@ def standard_data() -> tuple[Any, str]:
         return mod.make_data(0, standard=True), f"{path.name} make_data(0, standard=True) (synth not yet merged)"
 
 
-def bench_diagnose(workers: int = 2) -> dict[str, Any]:
+def bench_diagnose(workers: int = 2, protocols: str = "standard") -> dict[str, Any]:
     """Wall times (s) of the baseline calibration alone and of the full diagnosis (report written to a temporary
     folder), with the file's trial count, the verdict and the simulation settings."""
     from ..diagnose import run_diagnosis
@@ -44,7 +46,7 @@ def bench_diagnose(workers: int = 2) -> dict[str, Any]:
     from ..measured import write_measured
     from ..parameters import load_parameters
 
-    data, source = standard_data()
+    data, source = standard_data(protocols)
     with tempfile.TemporaryDirectory() as tmp:
         path = write_measured(Path(tmp) / "standard.h5", data)
         split = prepare(data)

@@ -59,7 +59,7 @@ def test_score_counts_hits_false_alarms_and_wrong_names():
                                            (["--suite", "1", "--separability", "--first", "12"],
                                             "nulls are skipped"),
                                            (["--suite", "1", "--first", "13"], "between 1 and 12"),
-                                           (["--protocols", "extended"], "need --suite"),
+                                           (["--protocols", "long"], "unknown protocol set"),
                                            (["--suite", "1", "--protocols", "long"], "unknown protocol set")])
 def test_bad_suite_arguments_are_refused_before_any_work(argv, message, capsys):
     assert main(["bench", "diagnose", *argv]) != 0
