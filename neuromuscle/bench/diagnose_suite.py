@@ -1,9 +1,10 @@
 """``neuromuscle bench diagnose --suite N``: hit and false-alarm rates of the diagnosis on synthetic preparations.
 
 For every canonical cause (``synth.CAUSES``), the out-of-catalogue effect (``synth.OUTSIDE``, expected verdict
-"unexplained") and no effect at all ("none"), N preparations are made by ``synth.make_dataset`` with a random
-realistic strength (uniform 0.25-1 of the effect's range), noise (uniform 1-2 % of P0) and seed, and diagnosed
-blind (the truth group removed).  A hit is the expected verdict with a positive held-out gain (for a cause); a
+"unexplained") and no effect at all ("none"), N preparations are made by ``synth.make_dataset`` (on its extended
+protocol set since stop 36; ``protocols="standard"`` for the 28 trials before) with a random realistic strength
+(uniform 0.25-1 of the effect's range), noise (uniform 1-2 % of P0) and seed, and diagnosed blind (the truth group
+removed).  A hit is the expected verdict with a positive held-out gain (for a cause); a
 false alarm is a null preparation given anything but "none"; a wrong name is an effect named as another cause.
 The draws come from one seeded generator, so a suite is reproducible.  Units: %, s.
 """
@@ -99,14 +100,14 @@ def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
 
 def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 0, workers: int = 2,
               progress: bool = False, journal: str | None = None, first: int = 1,
-              protocols: str = "standard") -> dict[str, Any]:
+              protocols: str = "extended") -> dict[str, Any]:
     """Make and diagnose every case of ``suite_cases`` (blind) and return {"cases": [...], **score}; each case
     records its draw, the verdict, the held-out gain of the named extension (if any), each fitted candidate's
     held-out chi-square gain and the rules it failed, every testable extension's screening score, the trials
     still structured under the verdict's model and the wall time (s).  journal: a file to which each case's
     record is appended as one JSON line when it is done (a long suite's finished cases survive an interrupt);
     first: the case (1-based, in ``suite_cases`` order) to start from, to resume an interrupted suite.  protocols:
-    synth's protocol set ("standard" or "extended"; the draws are the same in both)."""
+    synth's protocol set ("extended", the default since stop 36, or "standard"; the draws are the same in both)."""
     from ..diagnose.diagnosis import diagnose_data
     from ..diagnose.verdict import rest_structured
     from ..synth import make_dataset, without_truth

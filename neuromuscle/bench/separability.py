@@ -76,7 +76,7 @@ def _residual_after(r: np.ndarray, J: np.ndarray) -> np.ndarray:
 
 
 def separability(cause: str, strength: float, seed: int, noise_pct: float, *, workers: int = 1,
-                 trials: Sequence[str] | None = None, protocols: str = "standard") -> Separability:
+                 trials: Sequence[str] | None = None, protocols: str = "extended") -> Separability:
     """The first-order separability of hidden effect ``cause`` at ``strength`` (0-1) in the preparation of dataset
     seed ``seed`` with noise ``noise_pct`` (% of P0); ``protocols``: synth's protocol set, ``trials``: a subset of
     its ids."""
@@ -162,7 +162,7 @@ def table_lines(rows: Sequence[Separability]) -> list[str]:
 
 def run_separability(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 0, workers: int = 2,
                      first: int = 1, journal: str | None = None, progress: bool = True,
-                     protocols: str = "standard") -> list[Separability]:
+                     protocols: str = "extended") -> list[Separability]:
     """:func:`separability` of the suite's cases (``diagnose_suite.suite_cases``, the same draws; nulls skipped),
     from case ``first`` (1-based), each appended to ``journal`` as a JSON line when given."""
     import json

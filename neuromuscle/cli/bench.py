@@ -41,9 +41,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bd.add_argument("--separability", action="store_true",
                     help="with --suite: instead of diagnosing, how far each case's hidden effect can be told from "
                          "calibration, to first order at the truth (about 1 min a case)")
-    bd.add_argument("--protocols", default="standard",
-                    help="synth's protocol set of the file(s): standard (28 trials) or extended (34; a suite's draws "
-                         "are the same in both)")
+    bd.add_argument("--protocols", default=None,
+                    help="synth's protocol set of the file(s): extended (34 trials; a suite's default) or standard "
+                         "(28; the single file's default, as item 8 of issue 9 times it); a suite's draws are the same "
+                         "in both")
     bd.add_argument("--json", action="store_true")
     bd.set_defaults(func=run_diagnose)
     bi = bsub.add_parser("intervals", help="coverage of the fit's 95 %% intervals on SciPy reference data with "
@@ -140,25 +141,27 @@ def run_diagnose(args: argparse.Namespace) -> int:
 
         causes = [c.strip() for c in args.causes.split(",") if c.strip()] if args.causes else None
         suite_cases(args.suite, causes, args.seed)  # bad input refused before any work
-        protocol_set(args.protocols, 0.0)
+        protocols = args.protocols or "extended"
+        protocol_set(protocols, 0.0)
         if args.separability:
             from ..bench.separability import run_separability, table_lines as separability_lines
 
             rows = run_separability(args.suite, causes=causes, seed=args.seed, workers=args.workers,
-                                    first=args.first, journal=args.journal, protocols=args.protocols)
+                                    first=args.first, journal=args.journal, protocols=protocols)
             print(json.dumps([s.to_json() for s in rows], indent=2) if args.json else
                   "\n".join(separability_lines(rows)))
             return 0
         res = run_suite(args.suite, causes=causes, seed=args.seed, workers=args.workers, progress=True,
-                        journal=args.journal, first=args.first, protocols=args.protocols)
+                        journal=args.journal, first=args.first, protocols=protocols)
         print(json.dumps(res, indent=2) if args.json else "\n".join(table_lines(res)))
         return 0
     if args.causes is not None or args.journal is not None or args.first != 1 or args.separability:
         raise InputError("--causes, --journal, --first and --separability need --suite")
     from ..synth.protocols import protocol_set
 
-    protocol_set(args.protocols, 0.0)  # an unknown set refused before any work
-    _print(bench_diagnose(args.workers, args.protocols), args.json)
+    protocols = args.protocols or "standard"
+    protocol_set(protocols, 0.0)  # an unknown set refused before any work
+    _print(bench_diagnose(args.workers, protocols), args.json)
     return 0
 
 

@@ -122,7 +122,7 @@ def _static_points(params: ParameterSet, optimum_mm: float, sd_N: float,
 
 def make_dataset(cause: str | None, strength: float, seed: int, noise_pct: float = 1.5, variation: float = 0.2, *,
                  noise_tau_ms: float = 5.0, base: str = "CT09", dt_ms: float = DT_MS, workers: int = 1,
-                 trials: Sequence[str] | None = None, protocols: str = "standard") -> MeasuredData:
+                 trials: Sequence[str] | None = None, protocols: str = "extended") -> MeasuredData:
     """A synthetic preparation in the measured-data layout (write it with ``write_measured`` or
     :func:`write_dataset`).
 
@@ -132,7 +132,7 @@ def make_dataset(cause: str | None, strength: float, seed: int, noise_pct: float
     the AR(1) transducer noise in % of the preparation's P0 (N), correlation time noise_tau_ms (ms).
     variation: log-sd of the per-parameter factors around ``base``.  dt_ms: the fixed step (ms) of the NEURON
     runs.  workers: processes simulating trials.  protocols: the protocol set (``protocols.PROTOCOL_SETS``:
-    "standard", 28 trials, or "extended", 34, whose first 28 trials and their noise are the standard's).
+    "extended", 34 trials, the default since stop 36, or "standard", its first 28, with the same noise).
     trials: ids of a subset of the set (all when None).  The truth (cause, strength, parameters, settings) goes
     into the ``/synth`` group.
     """

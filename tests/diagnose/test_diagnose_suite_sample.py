@@ -1,8 +1,9 @@
 """The CI's sample of ``neuromuscle bench diagnose --suite``: synth preparations of the suite's draws (seed 1), made
-with ``neuromuscle synth`` and diagnosed blind: an effect must be named with a held-out gain that passes every rule,
-and the null that was the five-seed suite's false alarm must come back none.  Two cases (about 3 and 2 min on 2
-cores); the rates over five seeds per cause are the benchmark's, in docs/diagnosis.md.
-The null and the fatigue-like effect of tests/diagnose's own preparations are test_diagnose_verdicts.py."""
+with ``neuromuscle synth`` (its extended protocol set, the suite's since stop 36) and diagnosed blind: an effect
+must be named with a held-out gain that passes every rule, and the null that was the five-seed suite's false alarm
+must come back none.  Two cases (about 3 and 2 min on 2 cores); the rates over five seeds per cause are the
+benchmark's, in docs/diagnosis.md.  The null and the fatigue-like effect of tests/diagnose's own preparations are
+test_diagnose_verdicts.py."""
 
 from neuromuscle.bench.diagnose_suite import run_suite, score
 

@@ -9,7 +9,8 @@ from neuromuscle.cli import main
 from neuromuscle.fit import trial_simulation
 from neuromuscle.measured import read_measured, validate_measured
 from neuromuscle.model.kim import kim_excitation
-from neuromuscle.synth import TRUTH_PATH, make_dataset, standard_protocols, truth, without_truth, write_dataset
+from neuromuscle.synth import (TRUTH_PATH, extended_protocols, make_dataset, standard_protocols, truth, without_truth,
+                               write_dataset)
 from neuromuscle.synth.dataset import SETTLE_MS
 from neuromuscle.synth.protocols import total_duration_s
 
@@ -93,7 +94,7 @@ def test_seeds_are_reproducible_and_distinct():
     ({"seed": -1}, "seed must be an integer >= 0"),
     ({"noise_pct": 50.0}, r"noise_pct must be a number in \[0, 20\]"),
     ({"variation": 3.0}, "variation must be a log-sd between 0 and 1"),
-    ({"trials": ["twitch_middle"]}, r"trial\(s\) \['twitch_middle'\] are not in the standard protocol set"),
+    ({"trials": ["twitch_middle"]}, r"trial\(s\) \['twitch_middle'\] are not in the extended protocol set"),
 ])
 def test_bad_input_is_refused_with_a_clear_message(kwargs, match):
     args = {"cause": "staircase", "strength": 0.5, "seed": 1, **kwargs}
@@ -123,12 +124,12 @@ def test_cli_lists_causes_and_refuses_unknown_ones(capsys, tmp_path):
     assert not (tmp_path / "c.h5").exists()
 
 
-def test_cli_writes_a_full_standard_file_that_data_check_accepts(tmp_path, capsys):
+def test_cli_writes_a_full_file_of_the_default_extended_set_that_data_check_accepts(tmp_path, capsys):
     out = tmp_path / "prep.h5"
     assert main(["synth", "--cause", "none", "--strength", "0", "--seed", "2", "--noise", "1.5",
                  "--out", str(out)]) == 0
     assert "wrote" in capsys.readouterr().out
     assert main(["data", "check", str(out)]) == 0
     data = read_measured(out)
-    assert len(data.trials) == len(standard_protocols(-8.0))
+    assert len(data.trials) == len(extended_protocols(-8.0))  # the default since stop 36
     assert truth(data)["cause"] == "none"

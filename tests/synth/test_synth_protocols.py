@@ -90,13 +90,13 @@ def test_hidden_staircase_grows_the_twitch_series_and_relaxation_slows_the_early
     assert slowed[0] > sd and slowed[0] > 3 * abs(slowed[-1])  # recovering within a second, unlike a potentiation
 
 
-def test_cli_writes_an_extended_file_and_refuses_an_unknown_set(tmp_path, capsys):
+def test_cli_writes_a_standard_file_on_request_and_refuses_an_unknown_set(tmp_path, capsys):
     bad = tmp_path / "bad.h5"
     assert main(["synth", "--cause", "none", "--seed", "1", "--protocols", "long", "--out", str(bad)]) == 2
     assert "unknown protocol set 'long'" in capsys.readouterr().err
     assert not bad.exists()
-    out = tmp_path / "ext.h5"
-    assert main(["synth", "--cause", "none", "--strength", "0", "--seed", "2", "--protocols", "extended",
+    out = tmp_path / "std.h5"
+    assert main(["synth", "--cause", "none", "--strength", "0", "--seed", "2", "--protocols", "standard",
                  "--out", str(out)]) == 0
     assert main(["data", "check", str(out)]) == 0
-    assert set(read_measured(out).trials) == {p.trial_id for p in extended_protocols(OPT)}
+    assert set(read_measured(out).trials) == {p.trial_id for p in standard_protocols(OPT)}
