@@ -4,9 +4,9 @@ For every canonical cause (``synth.CAUSES``), the out-of-catalogue effect (``syn
 "unexplained") and no effect at all ("none"), N preparations are made by ``synth.make_dataset`` (on its extended
 protocol set since stop 36; ``protocols="standard"`` for the 28 trials before) with a random realistic strength
 (uniform 0.25-1 of the effect's range), noise (uniform 1-2 % of P0) and seed, and diagnosed blind (the truth group
-removed).  A hit is the expected verdict with a positive held-out gain (for a cause); a
-false alarm is a null preparation given anything but "none"; a wrong name is an effect named as another cause.
-The draws come from one seeded generator, so a suite is reproducible.  Units: %, s.
+removed).  A hit is the expected verdict with a positive held-out gain (for a cause); a false alarm is a null
+preparation given anything but "none"; a wrong name is an effect named as another cause.  The draws come from one
+seeded generator, so a suite is reproducible.  Units: %, s.
 """
 
 from __future__ import annotations
@@ -102,9 +102,9 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
               progress: bool = False, journal: str | None = None, first: int = 1,
               protocols: str = "extended") -> dict[str, Any]:
     """Make and diagnose every case of ``suite_cases`` (blind) and return {"cases": [...], **score}; each case
-    records its draw, the verdict, the held-out gain of the named extension (if any), each fitted candidate's
-    held-out chi-square gain and the rules it failed, every testable extension's screening score, the trials
-    still structured under the verdict's model and the wall time (s).  journal: a file to which each case's
+    records its draw, the protocol set, the verdict, the held-out gain of the named extension (if any), each fitted
+    candidate's held-out chi-square gain and the rules it failed, every testable extension's screening score, the
+    trials still structured under the verdict's model and the wall time (s).  journal: a file to which each case's
     record is appended as one JSON line when it is done (a long suite's finished cases survive an interrupt);
     first: the case (1-based, in ``suite_cases`` order) to start from, to resume an interrupted suite.  protocols:
     synth's protocol set ("extended", the default since stop 36, or "standard"; the draws are the same in both)."""
@@ -123,8 +123,9 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
         try:
             d = diagnose_data(without_truth(data), workers=workers)
         except (InputError, NumericalError) as e:  # one case's failure is recorded, and the suite goes on
-            row = {**asdict(case), "expected": case.expected, "verdict": "error", "error": str(e),
-                   "gain_ok": False, "heldout_gain": None, "wall_s": round(time.perf_counter() - t0, 1)}
+            row = {**asdict(case), "protocols": protocols, "expected": case.expected, "verdict": "error",
+                   "error": str(e), "gain_ok": False, "heldout_gain": None,
+                   "wall_s": round(time.perf_counter() - t0, 1)}
             results.append(row)
             _journal(journal, row)
             if progress:
@@ -132,7 +133,7 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
                       file=sys.stderr, flush=True)
             continue
         ev = d.evidence.get(d.verdict)
-        row = {**asdict(case), "expected": case.expected, "verdict": d.verdict,
+        row = {**asdict(case), "protocols": protocols, "expected": case.expected, "verdict": d.verdict,
                "gain_ok": bool(ev is not None and ev.passed),
                "heldout_gain": None if ev is None else float(ev.chi2_gain),
                "candidates_fitted": {n: e.failed for n, e in d.evidence.items()},

@@ -1,7 +1,6 @@
 """``neuromuscle synth --cause NAME|none --strength S --seed N --noise PCT --out FILE.h5
-[--protocols standard|extended] [--overwrite]``: write a
-synthetic preparation with one hidden effect (``neuromuscle.synth``); ``neuromuscle synth --list`` lists the
-causes and their strength ranges."""
+[--protocols extended|standard] [--overwrite]``: write a synthetic preparation with one hidden effect
+(``neuromuscle.synth``); ``neuromuscle synth --list`` lists the causes and their strength ranges."""
 
 from __future__ import annotations
 

@@ -1,9 +1,10 @@
 """Synthetic measured data with a hidden effect (``neuromuscle synth``): the test bed of the diagnosis.
 
 A preparation is the Kim Modules 1-3 (eq 18 and eqs 19-20 off) with every parameter moved from CT09 by its own
-log-normal factor, run through the standard protocol set (``protocols``) in NEURON, with at most one hidden
-effect (``effects``: a canonical cause in a form unlike the catalogue's extension, or an out-of-catalogue
-artefact) played into the baseline's modulation ports (``play``), plus AR(1) transducer noise (``dataset``)::
+log-normal factor, run through a protocol set (``protocols``: extended by default, or standard) in NEURON, with at
+most one hidden effect (``effects``: a canonical cause in a form unlike the catalogue's extension, or an
+out-of-catalogue artefact) played into the baseline's modulation ports (``play``), plus AR(1) transducer noise
+(``dataset``)::
 
     data = make_dataset("staircase", strength=0.5, seed=3)        # MeasuredData; truth in /synth
     write_dataset("prep.h5", None, 0.0, seed=3)                     # a null preparation

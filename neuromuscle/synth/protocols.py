@@ -1,8 +1,10 @@
-"""The standard protocol set of one synthetic preparation: what each trial is, on the trial's clock (s).
+"""The protocol sets of one synthetic preparation (standard, 28 trials; extended, 34, the default of ``synth`` since
+stop 36): what each trial is, on the trial's clock (s).
 
 Lengths are set relative to the preparation's optimum (as an experimenter sets them after a length-tension scan):
 "optimal" at the optimum, "short" SHORT_MM below it, "long" LONG_MM above it.  Every stimulated trial starts with
-PRE_S of rest before its first stimulus.  28 trials, about 92 s of simulated time in all (``total_duration_s``):
+PRE_S of rest before its first stimulus.  The standard set: 28 trials, about 92 s of simulated time in all
+(``total_duration_s``):
 
 * twitches at the three lengths; 10 and 40 Hz trains (1 s) at the three lengths; 3 Hz (4 s), 20 Hz (1 s) and
   100 Hz (0.5 s) trains at the optimum;
