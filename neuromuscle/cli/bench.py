@@ -132,17 +132,17 @@ def run_pool(args: argparse.Namespace) -> int:
 
 def run_diagnose(args: argparse.Namespace) -> int:
     from ..bench.diagnose import bench_diagnose
+    from ..synth.protocols import protocol_builder
 
     if args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
     if args.suite is not None:
         from ..bench.diagnose_suite import run_suite, suite_cases, table_lines
-        from ..synth.protocols import protocol_set
 
         causes = [c.strip() for c in args.causes.split(",") if c.strip()] if args.causes else None
         suite_cases(args.suite, causes, args.seed)  # bad input refused before any work
         protocols = args.protocols or "extended"
-        protocol_set(protocols, 0.0)
+        protocol_builder(protocols)
         if args.separability:
             from ..bench.separability import run_separability, table_lines as separability_lines
 
@@ -157,10 +157,8 @@ def run_diagnose(args: argparse.Namespace) -> int:
         return 0
     if args.causes is not None or args.journal is not None or args.first != 1 or args.separability:
         raise InputError("--causes, --journal, --first and --separability need --suite")
-    from ..synth.protocols import protocol_set
-
     protocols = args.protocols or "standard"
-    protocol_set(protocols, 0.0)  # an unknown set refused before any work
+    protocol_builder(protocols)  # an unknown set refused before any work
     _print(bench_diagnose(args.workers, protocols), args.json)
     return 0
 

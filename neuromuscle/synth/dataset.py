@@ -27,7 +27,7 @@ from ..parameters import ParameterSet, load_parameters, registry
 from ..reports.outdir import refuse_existing_file
 from .effects import ALL, GRID_MS, TrialInput, hidden_effect, modulation, transducer_drift
 from .play import played_models
-from .protocols import PlannedTrial, protocol_set
+from .protocols import PlannedTrial, protocol_builder
 from .variation import draw_preparation
 
 TRUTH_PATH = "/synth"
@@ -137,10 +137,11 @@ def make_dataset(cause: str | None, strength: float, seed: int, noise_pct: float
     into the ``/synth`` group.
     """
     name = _check_settings(cause, strength, seed, noise_pct, noise_tau_ms, workers)
+    build_plan = protocol_builder(protocols)  # an unknown set refused before the preparation is drawn
     params, n_draws = draw_preparation(load_parameters(base), variation, np.random.default_rng([seed, 0]),
                                        name=f"synth-seed{seed}")
     optimum = round(float(params["g1"]), 1)
-    plan = protocol_set(protocols, optimum)
+    plan = build_plan(optimum)
     if trials is not None:
         unknown = sorted(set(trials) - {p.trial_id for p in plan})
         if unknown:

@@ -38,7 +38,7 @@ The sampling interval is SAMPLE_S (1 kHz) except for the step.  Trial attributes
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -135,18 +135,24 @@ def extended_protocols(optimum_mm: float) -> list[PlannedTrial]:
 PROTOCOL_SETS = {"standard": standard_protocols, "extended": extended_protocols}
 
 
-def protocol_set(name: str, optimum_mm: float) -> list[PlannedTrial]:
-    """The protocol set called ``name`` (``PROTOCOL_SETS``) around ``optimum_mm`` (mm); InputError otherwise."""
+def protocol_builder(name: str) -> Callable[[float], list[PlannedTrial]]:
+    """The function that builds protocol set ``name`` (``PROTOCOL_SETS``) around an optimum (mm); InputError
+    naming the known sets otherwise (so a caller can refuse a bad name before any work)."""
     if name not in PROTOCOL_SETS:
         raise InputError(f"unknown protocol set {name!r}; known: {', '.join(PROTOCOL_SETS)}")
-    return PROTOCOL_SETS[name](optimum_mm)
+    return PROTOCOL_SETS[name]
+
+
+def protocol_set(name: str, optimum_mm: float) -> list[PlannedTrial]:
+    """The protocol set called ``name`` (``PROTOCOL_SETS``) around ``optimum_mm`` (mm); InputError otherwise."""
+    return protocol_builder(name)(optimum_mm)
 
 
 def _twitch_series(opt: float) -> list[PlannedTrial]:
     out = []
     for rate, n in ((1.0, 6), (2.0, 10)):
-        stims = PRE_S + np.arange(n) / rate
-        out.append(_isometric(f"twitch_series{rate:g}_opt", "twitch_series", stims, opt, "optimal", rate_hz=rate))
+        out.append(_isometric(f"twitch_series{rate:g}_opt", "twitch_series", _train(rate, n / rate), opt, "optimal",
+                              rate_hz=rate))
     return out
 
 
