@@ -141,7 +141,7 @@ def run_diagnose(args: argparse.Namespace) -> int:
 
         causes = [c.strip() for c in args.causes.split(",") if c.strip()] if args.causes else None
         suite_cases(args.suite, causes, args.seed)  # bad input refused before any work
-        protocols = args.protocols or "extended"
+        protocols = "extended" if args.protocols is None else args.protocols
         protocol_builder(protocols)
         if args.separability:
             from ..bench.separability import run_separability, table_lines as separability_lines
@@ -157,7 +157,7 @@ def run_diagnose(args: argparse.Namespace) -> int:
         return 0
     if args.causes is not None or args.journal is not None or args.first != 1 or args.separability:
         raise InputError("--causes, --journal, --first and --separability need --suite")
-    protocols = args.protocols or "standard"
+    protocols = "standard" if args.protocols is None else args.protocols
     protocol_builder(protocols)  # an unknown set refused before any work
     _print(bench_diagnose(args.workers, protocols), args.json)
     return 0
