@@ -121,10 +121,11 @@ def test_staircase_sign_and_size(ct09):
 
 
 def test_staircase_is_built_by_low_rates(ct09):
-    """The same 12 spikes, then a probe twitch 600 ms later.  tau_f 100 ms: at 5 Hz each spike builds S by
-    u (1 - e^-2) = 0.86 u, at 50 Hz by 0.18 u after the first, so the probe grows less than half as much after the
-    50 Hz train.  tau_f 2 ms (the form before stop 24): every spike builds fully and the 50 Hz train, with less
-    time to decay, grows the probe at least as much as the 5 Hz one."""
+    """The same 12 spikes, then a probe twitch 600 ms later.  A spike builds S by u (1 - F)^3, F = exp(-ISI/tau_f):
+    at 5 Hz by 0.90 u (tau_f 60 ms) or 0.98 u (40 ms, the lower bound), at 50 Hz by 0.023 u or 0.06 u after the
+    first: S is ~8x smaller after the 50 Hz train (its first spike alone builds a full u), and the probe grows about
+    a quarter as much (twitch force grows faster than release near the threshold).  (The shallow gate of stops
+    24-36, u (1 - F), built 0.28 u per 50 Hz spike at 60 ms.)"""
     grown = {}
     for rate in (5, 50):
         train = constant_rate(rate, 12 * 1000.0 / rate - 1.0, start_ms=50.0)
@@ -132,13 +133,19 @@ def test_staircase_is_built_by_low_rates(ct09):
         probe = train[-1] + 600.0
         spikes = np.concatenate([train, [probe]])
         b = peaks(simulate(ct09, spikes, XM, probe + 300.0), [probe], 250.0)[0]
-        for tau_f in (100.0, 2.0):
+        for tau_f in (60.0, 40.0):
             values = {"k": 0.8, "u": 0.03, "tau": 5000.0, "tau_f": tau_f}
             e = peaks(simulate(ct09, spikes, XM, probe + 300.0, extensions={"staircase": values}), [probe], 250.0)[0]
             grown[tau_f, rate] = e / b - 1.0
-    assert grown[100.0, 5] > 0.15, grown  # measured 0.25
-    assert 0.0 < grown[100.0, 50] < 0.5 * grown[100.0, 5], grown  # measured 0.11
-    assert grown[2.0, 50] > grown[2.0, 5] > 0.15, grown  # measured 0.32, 0.28
+    for tau_f in (60.0, 40.0):
+        assert grown[tau_f, 5] > 0.15, grown  # measured 0.26, 0.27
+        assert 0.0 < grown[tau_f, 50] < 0.35 * grown[tau_f, 5], grown  # measured 0.067, 0.079
+
+
+def test_staircase_interval_scale_below_its_bound_is_refused(ct09):
+    """tau_f under 40 ms would let a tetanus build the staircase (the form of stops 24-36 went down to 2 ms)."""
+    with pytest.raises(InputError, match="tau_f"):
+        simulate(ct09, [50.0], XM, 200.0, extensions={"staircase": {"k": 0.5, "tau_f": 2.0}})
 
 
 def test_doublet_potentiates_short_intervals_only(ct09):
