@@ -142,6 +142,22 @@ def test_staircase_is_built_by_low_rates(ct09):
         assert 0.0 < grown[tau_f, 50] < 0.35 * grown[tau_f, 5], grown  # measured 0.067, 0.079
 
 
+@pytest.mark.parametrize("tau_f", [40.0, 200.0])
+def test_a_tetanus_hardly_builds_the_staircase_at_any_admissible_interval_scale(ct09, tau_f):
+    """What tells the staircase from a removal slowed by recent activity (synth's relaxation effect, stop 37): at
+    either tau_f bound, the 100 Hz tetanus of the post-tetanic trials (30 spikes) builds S as 1.2 or 0.9 lone spikes
+    do, six twitches at 2 Hz as 4.2 or 3.5 (u 0.05, tau 5 s; S read from NEURON).  The shallow gate of stops 24-36
+    at its 2 ms bound built ~15 from the tetanus."""
+    values = {"k": 0.5, "u": 0.05, "tau": 5000.0, "tau_f": tau_f}
+    built = {}
+    for label, spikes in (("tetanus", constant_rate(100, 299.0, start_ms=50.0)),
+                          ("2 Hz", constant_rate(2, 2600.0, start_ms=50.0))):
+        r = simulate(ct09, spikes, XM, spikes[-1] + 5.0, extensions={"staircase": values},
+                     record=("staircase.gain",))
+        built[label] = (r["staircase.gain"][-1] - 1.0) / values["k"] / values["u"]  # S in units of u, 5 ms after
+    assert built["tetanus"] < 1.5 and built["2 Hz"] > 3.0, built
+
+
 def test_staircase_interval_scale_below_its_bound_is_refused(ct09):
     """tau_f under 40 ms would let a tetanus build the staircase (the form of stops 24-36 went down to 2 ms)."""
     with pytest.raises(InputError, match="tau_f"):
