@@ -6,7 +6,7 @@ staircase.  A spike builds S in proportion to (1 - F)^3, F (1) a fast trace of t
 exp(-ISI/tau_f) after one spike, so a spike that follows its predecessor closely (a tetanus) adds next to nothing
 and one after a long interval (a low-rate train) adds u.  The staircase is the catalogue's low-rate cause;
 potentiation by high-rate firing is post_activation_potentiation's (mod/ext_pap.mod, whose build-up is the
-mirror, u F).
+counterpart, u F).
 
 Equations (units: k 1, u 1 per spike, tau ms, tau_f ms, t ms):
     dS/dt = -S / tau,   dF/dt = -F / tau_f        between spikes

@@ -4,8 +4,8 @@
 Equations (ms, per spike): dS/dt = -S/tau, dF/dt = -F/tau_f; at each spike S -> S + u (1 - F)^3 (1 - S) with F as
 the previous spikes left it, then F -> 1; KimCa's release is multiplied by gain = 1 + k S, so k > 0 is a positive
 staircase (twitches grow over successive stimuli) and k < 0 a negative one.  After one spike F = exp(-ISI/tau_f):
-a spike after a long interval builds S by u, one that closely follows its predecessor (a tetanus) hardly at all,
-the mirror of post_activation_potentiation's u F.  Neutral: k = 0.  Bounds: k in [-0.6, 1] (release at most
+a spike after a long interval builds S by u, one that closely follows its predecessor (a tetanus) next to nothing,
+the counterpart of post_activation_potentiation's u F.  Neutral: k = 0.  Bounds: k in [-0.6, 1] (release at most
 -60 % or doubled at full build-up: twitch changes of about -40 % in slow muscle to +100 % in fast rodent muscle at
 2-10 Hz); u in [0.005, 0.5] per spike (the staircase saturates within 2-200 stimuli; measured ones within 10-50);
 tau 0.5 s to 2 min (from the decay of a Ca2+-handling change between twitches at >= 2 Hz to myosin light-chain
