@@ -137,6 +137,7 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
                                                  "rest_trend_z": d.rest,
                                                  "rest_structured_trials": rule.rest_structured(d.rest)[0]}},
         "decision_rule": {"n_bootstrap": rule.N_BOOTSTRAP, "min_excess_removed": rule.MIN_EXCESS_REMOVED,
+                          "min_excess_removed_diffuse": rule.MIN_EXCESS_REMOVED_DIFFUSE,
                           "structure_ratio": rule.STRUCTURE_RATIO,
                           "active_structure_ratio": rule.ACTIVE_STRUCTURE_RATIO, "rest_z": rule.REST_Z,
                           "min_structured_trials": rule.MIN_STRUCTURED_TRIALS,

@@ -10,7 +10,13 @@ passes when all of these hold:
    structured trial, which calibrates; relaxation_rate, whose constant factors on re-uptake and tau_A
    recalibrate the preparation's Module 1, gained 142 noise variances, enough for every other rule).  All
    held-out trials count, as the gain is theirs: a cause shows in more kinds of trial than its telling kind
-   (suite seed 1's force depression gained 5.2e4 on the ramps, its one held-out hold being within noise);
+   (suite seed 1's force depression gained 5.2e4 on the ramps, its one held-out hold being within noise).
+   Or, for an effect spread thinly over many trials, the candidate removes more than ``MIN_EXCESS_REMOVED_DIFFUSE``
+   = 50 % of the held-out error above noise (rule 4's measure): it explains more of the excess than it leaves.
+   Calibration misfit is of Module 1-3's forms, not an extension's, and an extension takes up a third of it at
+   most: in the 15 nulls of stop 37 the candidates stopped only by the trial threshold removed 28-34 %.  The
+   hidden relaxation effect of suite seed 3 (its slowed removal shows in every relaxation, its four largest
+   held-out reference residuals at 1.38-1.42 noise sd) was stopped there while removing 59 % (stops 36-37);
 1. **identified**: on the calibration fit, the 95 % interval (HAC + integrator) of at least one of the extension's
    effect parameters excludes its neutral value, or (a likelihood-ratio test, when the fits minimise the
    chi-square) the extension lowers the calibration chi-square below the reference's by more than its BIC
@@ -69,6 +75,7 @@ from .residuals import Noise
 
 N_BOOTSTRAP = 2000
 MIN_EXCESS_REMOVED = 0.25
+MIN_EXCESS_REMOVED_DIFFUSE = 0.5
 STRUCTURE_RATIO = 1.5
 ACTIVE_STRUCTURE_RATIO = 3.0
 REST_Z = 3.0
@@ -172,9 +179,11 @@ def judge(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: Ma
     p05 = block_bootstrap_p05(per_sample, [noise[i] for i in heldout], np.random.default_rng(seed))
     removed = gain / excess if excess > 0 else 0.0
     failed = []
-    if not structured_trials({i: measured[i] for i in heldout}, before, noise):
+    if not structured_trials({i: measured[i] for i in heldout}, before, noise) and \
+            not removed > MIN_EXCESS_REMOVED_DIFFUSE:
         failed.append(f"nothing to explain: no held-out trial ({len(heldout)}) has a reference residual above "
-                      f"{STRUCTURE_RATIO:g} noise sd")
+                      f"{STRUCTURE_RATIO:g} noise sd, and it removes {100 * removed:.0f} % <= "
+                      f"{100 * MIN_EXCESS_REMOVED_DIFFUSE:.0f} % of the held-out error above noise")
     lr = calibration is not None and calibration[0] > calibration[1]
     if not identified and not lr:
         failed.append("no effect parameter's 95 % interval excludes its neutral value" +
