@@ -27,7 +27,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bf.add_argument("--json", action="store_true")
     bf.set_defaults(func=run)
     bd = bsub.add_parser("diagnose", help="wall time of one full diagnosis of a synthetic null file (--protocols: "
-                                          "28 or 34 trials) and of its baseline calibration alone")
+                                          "28 or 36 trials) and of its baseline calibration alone")
     bd.add_argument("--workers", type=int, default=2)
     bd.add_argument("--suite", type=int, default=None, metavar="N",
                     help="instead: N synthetic preparations per cause (every canonical cause, the out-of-catalogue "
@@ -42,7 +42,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     help="with --suite: instead of diagnosing, how far each case's hidden effect can be told from "
                          "calibration, to first order at the truth (about 1 min a case)")
     bd.add_argument("--protocols", default=None,
-                    help="synth's protocol set of the file(s): extended (34 trials; a suite's default) or standard "
+                    help="synth's protocol set of the file(s): extended (36 trials; a suite's default) or standard "
                          "(28; the single file's default, as item 8 of issue 9 times it); a suite's draws are the same "
                          "in both")
     bd.add_argument("--json", action="store_true")

@@ -22,7 +22,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     help="log-sd of the per-parameter factors around CT09 (0.2: about 20 %%)")
     sp.add_argument("--workers", type=int, default=1, help="processes simulating trials")
     sp.add_argument("--protocols", default="extended",
-                    help="the protocol set: extended (the default since stop 36: 34 trials, ~118 s) or standard (its "
+                    help="the protocol set: extended (the default since stop 36: 36 trials since stop 39, ~127 s) or standard (its "
                          "first 28 trials, ~92 s: without the twitch series, post-tetanic probes and cyclic length)")
     sp.add_argument("--out", help="the HDF5 file to write")
     sp.add_argument("--overwrite", action="store_true", help="replace an existing file")

@@ -132,7 +132,7 @@ def make_dataset(cause: str | None, strength: float, seed: int, noise_pct: float
     the AR(1) transducer noise in % of the preparation's P0 (N), correlation time noise_tau_ms (ms).
     variation: log-sd of the per-parameter factors around ``base``.  dt_ms: the fixed step (ms) of the NEURON
     runs.  workers: processes simulating trials.  protocols: the protocol set (``protocols.PROTOCOL_SETS``:
-    "extended", 34 trials, the default since stop 36, or "standard", its first 28, with the same noise).
+    "extended", 36 trials (34 until stop 39), the default since stop 36, or "standard", its first 28, with the same noise).
     trials: ids of a subset of the set (all when None).  The truth (cause, strength, parameters, settings) goes
     into the ``/synth`` group.
     """

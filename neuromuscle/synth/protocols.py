@@ -1,4 +1,4 @@
-"""The protocol sets of one synthetic preparation (standard, 28 trials; extended, 34, the default of ``synth`` since
+"""The protocol sets of one synthetic preparation (standard, 28 trials; extended, 36, the default of ``synth`` since
 stop 36): what each trial is, on the trial's clock (s).
 
 Lengths are set relative to the preparation's optimum (as an experimenter sets them after a length-tension scan):
@@ -19,17 +19,20 @@ PRE_S of rest before its first stimulus.  The standard set: 28 trials, about 92 
 * random length (band 2 Hz, between short and long, fixed seeds) during 10 and 20 Hz trains (4 s);
 * a 0.5 mm step shortening in 0.5 ms during a 100 Hz train (the series-elastic stiffness), sampled at 10 kHz.
 
-The **extended** set (``extended_protocols``, ``synth --protocols extended``: 34 trials, about 118 s) adds three
+The **extended** set (``extended_protocols``, ``synth --protocols extended``: 36 trials, about 127 s) adds three
 protocols of two trials each, so that each has one trial on either side of a diagnosis's split and the standard
 trials keep their split; they target the causes whose weak cases the standard set leaves within a preparation's
-calibration misfit (docs/diagnosis.md, stop 36):
+calibration misfit (docs/diagnosis.md, stop 36); and (stop 39) a second hold of each kind:
 
 * twitch series at the optimum: 6 twitches at 1 Hz and 10 at 2 Hz (a staircase, or treppe, is measured this way);
 * post-tetanic probes at the optimum: a 100 Hz (0.3 s) or 50 Hz (0.5 s) conditioning train, then twitches 0.15,
   0.4, 1 and 2.5 s after its last stimulus (relaxation that recovers within a second after activity, against a
   potentiation that lasts tens of seconds; the 50 Hz train loads activity with few intervals under 15 ms);
 * cyclic length: a sinusoid between short and optimal, 1 Hz during a 10 Hz train or 0.5 Hz during a 20 Hz
-  train (4 s; movement at low rates and lengthening below the optimum, every cycle).
+  train (4 s; movement at low rates and lengthening below the optimum, every cycle);
+* long holds (``_long_holds``): the stretch-hold and shortening-hold ramps during 4 s 40 Hz trains, held about 3 s,
+  ordered after the standard holds by the split, so that one hold of each kind is judged (force enhancement and
+  depression are defined by the force in the hold).
 
 The sampling interval is SAMPLE_S (1 kHz) except for the step.  Trial attributes say what each trial is:
 ``kind`` (as ``protocol``), ``rate_hz``, ``length_label`` or ``lengths``, ``doublet_isi_ms``, ``velocity_mm_s``.
@@ -128,7 +131,9 @@ def extended_protocols(optimum_mm: float) -> list[PlannedTrial]:
     """The standard set around ``optimum_mm`` (mm), unchanged and first, then twitch series, post-tetanic probes
     and cyclic length (module docstring)."""
     opt = float(optimum_mm)
-    return standard_protocols(opt) + _twitch_series(opt) + _post_tetanic(opt) + _cyclic(opt - SHORT_MM, opt)
+    lengths = {"short": opt - SHORT_MM, "opt": opt, "long": opt + LONG_MM}
+    return (standard_protocols(opt) + _twitch_series(opt) + _post_tetanic(opt) + _cyclic(opt - SHORT_MM, opt)
+            + _long_holds(lengths))
 
 
 #: The protocol sets ``synth`` can write, by name.
@@ -190,16 +195,30 @@ def _ramps(lengths: dict[str, float]) -> list[PlannedTrial]:
     return out
 
 
-def _holds(lengths: dict[str, float]) -> list[PlannedTrial]:
-    out = []
+def _hold(tid: str, protocol: str, lengths: dict[str, float], a: str, b: str, train_s: float,
+          ramp_after_s: float) -> PlannedTrial:
+    """A 40 Hz train of ``train_s`` (s) during which the length moves from ``a`` to ``b`` at 20 mm/s, starting
+    ``ramp_after_s`` (s) after the first stimulus, and is then held."""
     speed = 20.0
-    t = _clock(PRE_S + 2.5 + POST_S)
-    for tid, protocol, (a, b) in (("stretch_hold40", "stretch_hold", ("opt", "long")),
-                                  ("shorten_hold40", "shorten_hold", ("long", "opt"))):
-        trace = isokinetic_ramp(lengths[a], lengths[b], speed, (PRE_S + 0.5) * 1000.0, t[-1] * 1000.0)
-        out.append(_moving(tid, protocol, _train(40, 2.5), t, trace.at(t * 1000.0), rate_hz=40,
-                           velocity_mm_s=speed if b == "long" else -speed, lengths=f"{a} -> {b}"))
-    return out
+    t = _clock(PRE_S + train_s + POST_S)
+    trace = isokinetic_ramp(lengths[a], lengths[b], speed, (PRE_S + ramp_after_s) * 1000.0, t[-1] * 1000.0)
+    return _moving(tid, protocol, _train(40, train_s), t, trace.at(t * 1000.0), rate_hz=40,
+                   velocity_mm_s=speed if b == "long" else -speed, lengths=f"{a} -> {b}")
+
+
+def _holds(lengths: dict[str, float]) -> list[PlannedTrial]:
+    return [_hold("stretch_hold40", "stretch_hold", lengths, "opt", "long", 2.5, 0.5),
+            _hold("shorten_hold40", "shorten_hold", lengths, "long", "opt", 2.5, 0.5)]
+
+
+def _long_holds(lengths: dict[str, float]) -> list[PlannedTrial]:
+    """The extended set's second stretch-hold and shortening-hold: the same ramps, held longer (4 s trains), so
+    that one of each is held out by the diagnosis's split (ordered after the standard ones by their mean length:
+    the stretch comes 0.5 s into the train, the shortening after 1 s at the long length).  Residual force
+    enhancement and depression last as long as the activation (seconds); a force-velocity transient after the
+    ramp fades within ~0.1 s."""
+    return [_hold("stretch_hold40_4s", "stretch_hold", lengths, "opt", "long", 4.0, 0.5),
+            _hold("shorten_hold40_4s", "shorten_hold", lengths, "long", "opt", 4.0, 1.0)]
 
 
 def _random(lengths: dict[str, float]) -> list[PlannedTrial]:

@@ -1,5 +1,6 @@
 """The protocol sets: the extended set is the standard one unchanged plus three protocols of two trials, each on
-both sides of the diagnosis's split, each telling for the causes it targets; the hidden effects show in them."""
+both sides of the diagnosis's split, and a second stretch-hold and shortening-hold that the split holds out; each
+telling for the causes it targets; the hidden effects show in them."""
 
 import numpy as np
 import pytest
@@ -19,6 +20,8 @@ OPT = -8.0
 NEW = {"twitch_series": ("twitch_series1_opt", "twitch_series2_opt"),
        "post_tetanic": ("post_tetanic100_opt", "post_tetanic50_opt"),
        "cyclic_length": ("cyclic10", "cyclic20")}
+#: Stop 39: a second hold of each kind, held longer (4 s trains), judged where the standard one calibrates.
+HOLDS = {"stretch_hold": ("stretch_hold40", "stretch_hold40_4s"), "shorten_hold": ("shorten_hold40", "shorten_hold40_4s")}
 
 
 def _data(plan):
@@ -32,8 +35,8 @@ def test_extended_set_is_the_standard_set_unchanged_then_three_protocols_of_two_
         assert np.array_equal(a.stimulus_times_s, b.stimulus_times_s) and np.array_equal(a.time_s, b.time_s)
     added = ext[len(std):]
     assert {p.protocol: sorted(q.trial_id for q in added if q.protocol == p.protocol) for p in added} == \
-        {k: sorted(v) for k, v in NEW.items()}
-    assert 110.0 < total_duration_s(ext) < 120.0  # 118 s against the standard's 92 s
+        {**{k: sorted(v) for k, v in NEW.items()}, **{k: [v[1]] for k, v in HOLDS.items()}}
+    assert 125.0 < total_duration_s(ext) < 128.0  # 126.6 s against the standard's 92 s
     assert [p.trial_id for p in protocol_set("extended", OPT)] == [p.trial_id for p in ext]
     with pytest.raises(InputError, match="unknown protocol set 'long'; known: standard, extended"):
         protocol_set("long", OPT)
@@ -45,6 +48,8 @@ def test_each_added_protocol_has_a_trial_on_each_side_and_the_standard_split_is_
     assert set(std.calibration) <= set(ext.calibration) and set(std.heldout) <= set(ext.heldout)
     for ids in NEW.values():
         assert len(set(ids) & set(ext.calibration)) == 1 and len(set(ids) & set(ext.heldout)) == 1
+    for first, second in HOLDS.values():  # the standard hold keeps calibrating; the longer one is judged
+        assert first in ext.calibration and second in ext.heldout
     assert "post_tetanic100_opt" in ext.heldout  # the probes after the higher-rate train are judged
 
 
@@ -60,6 +65,19 @@ def test_added_trials_are_telling_for_the_causes_they_target():
     for cause in ("movement_induced_depression", "lengthening_below_optimum"):
         assert all(tells(cause, t) for t in NEW["cyclic_length"]), cause
     assert not any(tells("movement_induced_depression", t) for t in NEW["twitch_series"] + NEW["post_tetanic"])
+    assert tells("force_enhancement_after_stretch", HOLDS["stretch_hold"][1])
+    assert tells("force_depression_after_shortening", HOLDS["shorten_hold"][1])
+
+
+@pytest.mark.parametrize("cause, tid", [("force_enhancement_after_stretch", "stretch_hold40_4s"),
+                                        ("force_depression_after_shortening", "shorten_hold40_4s")])
+def test_the_hidden_force_history_lasts_through_the_long_hold(cause, tid):
+    """At the weakest strength, the hidden enhancement / depression is still beyond the noise sd in the last
+    second of the long hold (the window where the diagnosis judges them), with the sign of its cause."""
+    d, n, sd = _pair(cause, (tid,))
+    last = float(d.trials[tid].stimulus_times_s[-1])
+    late = _excess(d, n, tid, last, -1.0, 0.0)
+    assert abs(late) > sd and np.sign(late) == (1 if cause.startswith("force_enh") else -1), (late, sd)
 
 
 def _pair(cause, ids):
