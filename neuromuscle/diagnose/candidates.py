@@ -6,6 +6,16 @@ follow.  A cause is *untestable* when no calibration trial or no held-out trial 
 neither fitted nor judged); it is listed as such, never guessed.  Testable causes are ranked by the structure of
 the baseline residual on their telling trials: score = (share of all trials' excess squared error above noise that
 sits on the telling trials) x (eta^2 of the pooled residual of those trials against the cause's variable).
+
+Two causes are defined by what the force does *after* a movement: force enhancement after stretch and force
+depression after shortening ("force after an active stretch stays above the isometric force", shared/spec/
+diagnosis.md).  Their ``after`` is the sign of that movement, and :func:`hold_window` gives the samples where the
+definition applies: the isometric hold from ``HOLD_DELAY_S`` after the trial's last active movement of that sign,
+while stimulated.  The same window makes a trial telling for them (``TrialFeatures.hold_after_*``: at least
+``MIN_HOLD_S`` of it) and is where :mod:`.verdict` requires their extension to gain (rule 7), measured from "the
+isometric force at the same length": :func:`isometric_references` finds the isometric trials at the hold's length
+and stimulation rate, whose mean residual on their plateau (:func:`isometric_level`) is the misfit a history
+effect does not explain.
 """
 
 from __future__ import annotations
@@ -17,6 +27,87 @@ import numpy as np
 
 from ..measured import Trial
 from .residuals import MOVING_MM_S, Noise, correlation_ratio
+
+#: Time (s) after the end of an active stretch or shortening before the hold counts as "after" it.  The force's
+#: transient back to the isometric level (the CE-SE relaxation through the force-velocity relation) has a time
+#: constant A g (1 + c0/P0) / (KSE d0) of about 60 ms at full activation with CT09's Module 3 (0.68 / (0.4 /mm x
+#: 30.3 mm/s)), so after 0.2 s (3.5 of them) what is left is history, not the movement's own dynamics.
+HOLD_DELAY_S = 0.2
+#: Least hold (s) in that window that makes a trial telling for force enhancement or depression.
+MIN_HOLD_S = 0.05
+
+
+def hold_window(trial: Trial, sign: int, delay_s: float = HOLD_DELAY_S) -> np.ndarray:
+    """Boolean mask over ``trial``'s samples: the isometric hold that follows its last active movement of ``sign``
+    (+1 lengthening, -1 shortening; |velocity| > MOVING_MM_S while stimulated), from ``delay_s`` (s) after that
+    movement ends, while the length stays still and the muscle is stimulated (to 50 ms after the last stimulus).
+    All False when the trial has no such movement or no hold after it."""
+    t = np.asarray(trial.time_s, dtype=float)
+    stim = np.sort(np.asarray(trial.stimulus_times_s, dtype=float))
+    x = trial.length_at()
+    if t.size < 2 or stim.size == 0:
+        return np.zeros(t.size, bool)
+    v = np.gradient(x, t)
+    moving = np.abs(v) > MOVING_MM_S
+    active = (t >= stim[0]) & (t <= stim[-1] + 0.05)
+    idx = np.flatnonzero(moving & (np.sign(v) == sign) & active)
+    if idx.size == 0:
+        return np.zeros(t.size, bool)
+    return (t > t[idx[-1]] + delay_s) & ~moving & active
+
+
+#: An isometric trial gives "the isometric force at the same length" of a hold when its length lies within
+#: ISOMETRIC_LENGTH_TOL_MM (mm) of the hold's and its stimulation rate within ISOMETRIC_RATE_TOL (fraction) of the
+#: hold's (synth sets lengths to 0.1 mm; a 40 Hz hold is matched by 40 Hz trains, not by 30 or 50 Hz ones).
+ISOMETRIC_LENGTH_TOL_MM = 0.5
+ISOMETRIC_RATE_TOL = 0.2
+
+
+def _rate_hz(stimuli_s: np.ndarray) -> float:
+    """Stimulation rate (Hz) from the median interval; 0 with fewer than two stimuli."""
+    s = np.sort(np.asarray(stimuli_s, dtype=float))
+    return 1.0 / float(np.median(np.diff(s))) if s.size > 1 and np.median(np.diff(s)) > 0 else 0.0
+
+
+def plateau(trial: Trial) -> np.ndarray:
+    """Boolean mask over an isometric trial's samples: from HOLD_DELAY_S after its first stimulus to its last
+    (the force's plateau, the rise left out)."""
+    t = np.asarray(trial.time_s, dtype=float)
+    stim = np.asarray(trial.stimulus_times_s, dtype=float)
+    if stim.size < 2:
+        return np.zeros(t.size, bool)
+    return (t >= stim.min() + HOLD_DELAY_S) & (t <= stim.max())
+
+
+def isometric_references(trials: Mapping[str, Trial], trial: Trial, window: np.ndarray) -> list[str]:
+    """Ids of the isometric trials (length constant within 0.05 mm, two stimuli or more) whose length and rate
+    match those of ``trial``'s hold ``window`` (a mask from :func:`hold_window`): the isometric force at the same
+    length that residual force enhancement and depression are measured from.  Either side of the split: the
+    reference's misfit there is calibration, not history."""
+    if not np.any(window):
+        return []
+    t = np.asarray(trial.time_s, dtype=float)
+    x_hold = float(np.mean(trial.length_at()[window]))
+    stim = np.asarray(trial.stimulus_times_s, dtype=float)
+    rate = _rate_hz(stim[(stim >= t[window].min() - HOLD_DELAY_S) & (stim <= t[window].max())])
+    out = []
+    for i, other in trials.items():
+        x = other.length_at()
+        r = _rate_hz(other.stimulus_times_s)
+        if (other is not trial and x.size and float(np.ptp(x)) <= 0.05 and r > 0 and rate > 0
+                and abs(float(x[0]) - x_hold) <= ISOMETRIC_LENGTH_TOL_MM and abs(r - rate) <= ISOMETRIC_RATE_TOL * rate):
+            out.append(i)
+    return out
+
+
+def isometric_level(ids: Sequence[str], trials: Mapping[str, Trial], residuals: Mapping[str, np.ndarray]) -> float:
+    """Mean residual (N, model - measured) over the plateaus of the isometric trials ``ids``; 0 without any."""
+    total, n = 0.0, 0
+    for i in ids:
+        m = plateau(trials[i])
+        total += float(np.sum(np.asarray(residuals[i])[m]))
+        n += int(m.sum())
+    return total / n if n else 0.0
 
 
 @dataclass(frozen=True)
@@ -49,12 +140,10 @@ def trial_features(trial: Trial, g1_mm: float) -> TrialFeatures:
     active = np.zeros(t.size, bool)
     if stim.size:
         active = (t >= stim[0]) & (t <= stim[-1] + 0.05)
+
     def hold_after(sign: int) -> bool:
-        idx = np.flatnonzero(moving & (np.sign(v) == sign))
-        if idx.size == 0:
-            return False
-        after = (np.arange(t.size) > idx[-1]) & ~moving & active
-        return int(after.sum()) * (t[1] - t[0] if t.size > 1 else 0.0) >= 0.05
+        return int(hold_window(trial, sign).sum()) * (t[1] - t[0] if t.size > 1 else 0.0) >= MIN_HOLD_S
+
     return TrialFeatures(
         n_stimuli=int(stim.size),
         mean_rate_hz=float((stim.size - 1) / (stim[-1] - stim[0])) if stim.size > 1 and stim[-1] > stim[0] else 0.0,
@@ -75,6 +164,12 @@ class Cause:
     telling_text: str
     telling: Callable[[TrialFeatures], bool]
     variable: str
+    after: int = 0  # +1 / -1: defined by the force after an active stretch / shortening (hold_window); 0: not
+
+    def window(self, trial: Trial) -> np.ndarray | None:
+        """Where the cause is defined in ``trial`` (:func:`hold_window`), or None for a cause defined wherever its
+        telling trials show it."""
+        return hold_window(trial, self.after) if self.after else None
 
 
 CAUSES: tuple[Cause, ...] = (
@@ -99,9 +194,10 @@ CAUSES: tuple[Cause, ...] = (
           "any trial with a relaxation after its last stimulus", lambda f: f.n_stimuli >= 1,
           "time_since_last_stimulus"),
     Cause("force_enhancement_after_stretch", "force after an active stretch stays above the isometric force",
-          "an isometric hold after an active stretch", lambda f: f.hold_after_stretch, "stretch_history"),
+          "an isometric hold after an active stretch", lambda f: f.hold_after_stretch, "stretch_history", after=1),
     Cause("force_depression_after_shortening", "force after active shortening stays below the isometric force",
-          "an isometric hold after active shortening", lambda f: f.hold_after_shortening, "stretch_history"),
+          "an isometric hold after active shortening", lambda f: f.hold_after_shortening, "stretch_history",
+          after=-1),
     Cause("fatigue", "force declines over long high-rate trains",
           "trains of >= 1 s at >= 30 Hz", lambda f: f.train_s >= 1.0 and f.mean_rate_hz >= 30.0,
           "recent_activity"),

@@ -19,7 +19,7 @@ from ..fit.evaluate import TrialPool
 from ..measured import MeasuredData, Trial
 from ..parameters import ParameterSet, load_parameters
 from .baseline import Baseline, calibrate_baseline, check_split_sizes, check_trials
-from .candidates import Candidate, rank_candidates
+from .candidates import Candidate, isometric_level, isometric_references, rank_candidates
 from .extension_fit import ExtensionFit, available, fit_extension, fit_reference
 from .residuals import Noise, Structure, explanatory_variables, noise_level, residual_structure, rest_trend_z
 from .screening import Screen, screen
@@ -116,11 +116,25 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
         return {i: rest_trend_z(t, simulated[i] - measured[i], simulated[i], noise[i])
                 for i, t in data.trials.items()}
 
+    def defined_where(name: str) -> dict[str, tuple[np.ndarray, float]] | None:
+        """Rule 7 (verdict.judge): by held-out trial, where the cause is defined and the reference's misfit of
+        the isometric force at that length (N); None for a cause defined wherever its telling trials show it."""
+        cause = next(c.cause for c in candidates if c.cause.name == name)
+        if not cause.after:
+            return None
+        out = {}
+        for i in split.heldout:
+            m = cause.window(data.trials[i])
+            refs = isometric_references(data.trials, data.trials[i], m)
+            out[i] = (m, isometric_level(refs, data.trials, ref_residual))
+        return out
+
     cal = [data.trials[i] for i in split.calibration]
     n_eff_cal = sum(noise[i].n_eff for i in split.calibration)  # the fits minimise the calibration chi-square
     _say(progress, "reference: Module 2, Umax and tau2 refitted on every calibration trial (what each candidate is "
                    "judged against)")
     reference = fit_reference(baseline.parameters, cal, trials, baseline.options, pool=pool, noise=noise)
+    ref_residual = {i: reference.simulated[i] - measured[i] for i in data.trials}
     _say(progress, f"screening {len(testable)} testable extensions: linearised gain at the reference")
     screens = screen(testable, reference.parameters, reference.simulated, cal, measured, noise, baseline.options,
                      pool=pool)
@@ -133,7 +147,7 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
                                        noise=noise)
         lr = (reference.fit.cost - f.fit.cost, f.n_parameters * math.log(max(n_eff_cal, 2.0)))
         evidence[name] = judge(split.heldout, measured, reference.simulated, f.simulated, noise, f.n_parameters,
-                               f.away_from_neutral(), calibration=lr)
+                               f.away_from_neutral(), calibration=lr, window=defined_where(name))
         rests[name] = rest_of(f.simulated)
         left = rest_left(rests[name])
         if left:
