@@ -11,11 +11,10 @@ Two causes are defined by what the force does *after* a movement: force enhancem
 depression after shortening ("force after an active stretch stays above the isometric force", shared/spec/
 diagnosis.md).  Their ``after`` is the sign of that movement, and :func:`hold_window` gives the samples where the
 definition applies: the isometric hold from ``HOLD_DELAY_S`` after the trial's last active movement of that sign,
-while stimulated.  The same window makes a trial telling for them (``TrialFeatures.hold_after_*``: at least
-``MIN_HOLD_S`` of it) and is where :mod:`.verdict` requires their extension to gain (rule 7), measured from "the
-isometric force at the same length": :func:`isometric_references` finds the isometric trials at the hold's length
-and stimulation rate, whose mean residual on their plateau (:func:`isometric_level`) is the misfit a history
-effect does not explain.
+while stimulated.  The same window makes a trial telling for them (``TrialFeatures.hold_after_*``) and is where
+:mod:`.verdict` requires their extension to gain (rule 7), measured from "the isometric force at the same length":
+:func:`hold` finds the isometric trials at the hold's length and stimulation rate, whose mean residual over the
+same span of stimulation (:meth:`Hold.level`) is a misfit a history effect does not explain.
 """
 
 from __future__ import annotations
@@ -33,81 +32,131 @@ from .residuals import MOVING_MM_S, Noise, correlation_ratio
 #: constant A g (1 + c0/P0) / (KSE d0) of about 60 ms at full activation with CT09's Module 3 (0.68 / (0.4 /mm x
 #: 30.3 mm/s)), so after 0.2 s (3.5 of them) what is left is history, not the movement's own dynamics.
 HOLD_DELAY_S = 0.2
-#: Least hold (s) in that window that makes a trial telling for force enhancement or depression.
+#: Least hold (s) after that delay for a trial to have a hold window (and so to be telling for force enhancement
+#: or depression).
 MIN_HOLD_S = 0.05
-
-
-def hold_window(trial: Trial, sign: int, delay_s: float = HOLD_DELAY_S) -> np.ndarray:
-    """Boolean mask over ``trial``'s samples: the isometric hold that follows its last active movement of ``sign``
-    (+1 lengthening, -1 shortening; |velocity| > MOVING_MM_S while stimulated), from ``delay_s`` (s) after that
-    movement ends, while the length stays still and the muscle is stimulated (to 50 ms after the last stimulus).
-    All False when the trial has no such movement or no hold after it."""
-    t = np.asarray(trial.time_s, dtype=float)
-    stim = np.sort(np.asarray(trial.stimulus_times_s, dtype=float))
-    x = trial.length_at()
-    if t.size < 2 or stim.size == 0:
-        return np.zeros(t.size, bool)
-    v = np.gradient(x, t)
-    moving = np.abs(v) > MOVING_MM_S
-    active = (t >= stim[0]) & (t <= stim[-1] + 0.05)
-    idx = np.flatnonzero(moving & (np.sign(v) == sign) & active)
-    if idx.size == 0:
-        return np.zeros(t.size, bool)
-    return (t > t[idx[-1]] + delay_s) & ~moving & active
-
-
-#: An isometric trial gives "the isometric force at the same length" of a hold when its length lies within
-#: ISOMETRIC_LENGTH_TOL_MM (mm) of the hold's and its stimulation rate within ISOMETRIC_RATE_TOL (fraction) of the
-#: hold's (synth sets lengths to 0.1 mm; a 40 Hz hold is matched by 40 Hz trains, not by 30 or 50 Hz ones).
+#: A sample is stimulated from the first stimulus to ACTIVE_AFTER_S (s) after the last, except in a gap between
+#: stimuli longer than ACTIVE_GAP_FACTOR median intervals (a pause between bursts is not a stimulated hold).
+ACTIVE_AFTER_S = 0.05
+ACTIVE_GAP_FACTOR = 1.5
+#: The rise of an isometric train (s after its first stimulus) left out of its plateau.
+RISE_S = 0.2
+#: An isometric trial gives "the isometric force at the same length" of a hold when its length is constant within
+#: STILL_MM (mm) and lies within ISOMETRIC_LENGTH_TOL_MM of the hold's, and it is a regular train (every interval
+#: within ISOMETRIC_RATE_TOL of its median) at the hold's rate within ISOMETRIC_RATE_TOL (synth sets lengths to
+#: 0.1 mm; a 40 Hz hold is matched by 40 Hz trains, not by 30 or 50 Hz ones, nor by doublets or post-tetanic
+#: probes).
+STILL_MM = 0.05
 ISOMETRIC_LENGTH_TOL_MM = 0.5
 ISOMETRIC_RATE_TOL = 0.2
 
 
-def _rate_hz(stimuli_s: np.ndarray) -> float:
-    """Stimulation rate (Hz) from the median interval; 0 with fewer than two stimuli."""
+def _median_interval_s(stimuli_s: np.ndarray) -> float:
+    """Median interval (s) between sorted stimuli; 0 with fewer than two."""
     s = np.sort(np.asarray(stimuli_s, dtype=float))
-    return 1.0 / float(np.median(np.diff(s))) if s.size > 1 and np.median(np.diff(s)) > 0 else 0.0
+    return float(np.median(np.diff(s))) if s.size > 1 else 0.0
 
 
-def plateau(trial: Trial) -> np.ndarray:
-    """Boolean mask over an isometric trial's samples: from HOLD_DELAY_S after its first stimulus to its last
-    (the force's plateau, the rise left out)."""
-    t = np.asarray(trial.time_s, dtype=float)
-    stim = np.asarray(trial.stimulus_times_s, dtype=float)
-    if stim.size < 2:
+def stimulated(time_s: np.ndarray, stimuli_s: np.ndarray) -> np.ndarray:
+    """Boolean mask over ``time_s`` (s): the muscle is stimulated (from the first stimulus to ACTIVE_AFTER_S after
+    the last, gaps over ACTIVE_GAP_FACTOR median intervals left out)."""
+    t = np.asarray(time_s, dtype=float)
+    stim = np.sort(np.asarray(stimuli_s, dtype=float))
+    if stim.size == 0:
         return np.zeros(t.size, bool)
-    return (t >= stim.min() + HOLD_DELAY_S) & (t <= stim.max())
+    k = np.searchsorted(stim, t, side="right")
+    since = t - stim[np.maximum(k - 1, 0)]
+    gap = max(ACTIVE_AFTER_S, ACTIVE_GAP_FACTOR * _median_interval_s(stim))
+    return (k >= 1) & (since <= gap) & (t <= stim[-1] + ACTIVE_AFTER_S)
 
 
-def isometric_references(trials: Mapping[str, Trial], trial: Trial, window: np.ndarray) -> list[str]:
-    """Ids of the isometric trials (length constant within 0.05 mm, two stimuli or more) whose length and rate
-    match those of ``trial``'s hold ``window`` (a mask from :func:`hold_window`): the isometric force at the same
-    length that residual force enhancement and depression are measured from.  Either side of the split: the
-    reference's misfit there is calibration, not history."""
-    if not np.any(window):
-        return []
+def _motion(trial: Trial) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """time (s), velocity (mm/s), moving (|v| > MOVING_MM_S) and stimulated masks of a trial."""
     t = np.asarray(trial.time_s, dtype=float)
-    x_hold = float(np.mean(trial.length_at()[window]))
-    stim = np.asarray(trial.stimulus_times_s, dtype=float)
-    rate = _rate_hz(stim[(stim >= t[window].min() - HOLD_DELAY_S) & (stim <= t[window].max())])
-    out = []
+    x = trial.length_at()
+    v = np.gradient(x, t) if x.size > 1 else np.zeros_like(x)
+    return t, v, np.abs(v) > MOVING_MM_S, stimulated(t, trial.stimulus_times_s)
+
+
+def hold_window(trial: Trial, sign: int, delay_s: float = HOLD_DELAY_S) -> np.ndarray:
+    """Boolean mask over ``trial``'s samples: each stimulated isometric hold that directly follows an active
+    movement of ``sign`` (+1 lengthening, -1 shortening; |velocity| > MOVING_MM_S while stimulated), from
+    ``delay_s`` (s) after that movement ends to the next movement or the end of the stimulation.  All False when
+    the trial has no such hold or when it lasts less than MIN_HOLD_S in all (the brief stops of a random or cyclic
+    length are not holds)."""
+    t, v, moving, active = _motion(trial)
+    out = np.zeros(t.size, bool)
+    still = ~moving & active
+    starts = np.flatnonzero(still & ~np.concatenate([[False], still[:-1]]))
+    for a in starts:
+        p = a - 1  # the sample before the hold: the movement it follows
+        if p < 0 or not (moving[p] and active[p] and np.sign(v[p]) == sign):
+            continue
+        b = a + int(np.argmin(still[a:])) if not still[a:].all() else t.size
+        out[a:b] = t[a:b] > t[p] + delay_s
+    dt = float(np.median(np.diff(t))) if t.size > 1 else 0.0
+    return out if out.sum() * dt >= MIN_HOLD_S else np.zeros(t.size, bool)
+
+
+@dataclass(frozen=True)
+class Hold:
+    """Where a cause defined after a movement is judged in one trial: the hold ``mask`` (:func:`hold_window`), the
+    isometric trials at its length and rate (``references``), and the span of stimulation (s since the first
+    stimulus) over which their force is compared, to the end of the hold (``until_s``)."""
+
+    mask: np.ndarray
+    references: tuple[str, ...]
+    until_s: float
+
+    def level(self, trials: Mapping[str, Trial], residuals: Mapping[str, np.ndarray]) -> float:
+        """The isometric misfit (N, model - measured) the hold is measured from: the mean over the ``references``
+        (each counting once) of their mean residual from RISE_S after their first stimulus to their last or to
+        ``until_s``, whichever is first; 0 without references."""
+        means = []
+        for i in self.references:
+            t = np.asarray(trials[i].time_s, dtype=float)
+            stim = np.asarray(trials[i].stimulus_times_s, dtype=float)
+            m = (t >= stim.min() + RISE_S) & (t <= min(stim.max(), stim.min() + self.until_s))
+            if m.any():
+                means.append(float(np.mean(np.asarray(residuals[i])[m])))
+        return float(np.mean(means)) if means else 0.0
+
+
+def _regular_rate_hz(stimuli_s: np.ndarray) -> float:
+    """Rate (Hz) of a regular train (two stimuli or more, every interval within ISOMETRIC_RATE_TOL of the median);
+    0 otherwise."""
+    s = np.sort(np.asarray(stimuli_s, dtype=float))
+    if s.size < 2:
+        return 0.0
+    isi = np.diff(s)
+    med = float(np.median(isi))
+    return 1.0 / med if med > 0 and np.all(np.abs(isi - med) <= ISOMETRIC_RATE_TOL * med) else 0.0
+
+
+def hold(trials: Mapping[str, Trial], trial_id: str, sign: int) -> Hold:
+    """The :class:`Hold` of trial ``trial_id`` for movements of ``sign``: its hold window and the isometric trials
+    of ``trials`` (either side of the split: the model's misfit there is calibration, not history) whose constant
+    length lies within ISOMETRIC_LENGTH_TOL_MM (mm) of the hold's mean length and whose regular rate is the
+    hold's within ISOMETRIC_RATE_TOL."""
+    trial = trials[trial_id]
+    mask = hold_window(trial, sign)
+    if not mask.any():
+        return Hold(mask, (), 0.0)
+    t = np.asarray(trial.time_s, dtype=float)
+    stim = np.sort(np.asarray(trial.stimulus_times_s, dtype=float))
+    x_hold = float(np.mean(trial.length_at()[mask]))
+    during = stim[(stim >= t[mask].min() - HOLD_DELAY_S) & (stim <= t[mask].max())]  # from the movement's end
+    m = _median_interval_s(during)
+    rate = 1.0 / m if m > 0 else 0.0
+    refs = []
     for i, other in trials.items():
         x = other.length_at()
-        r = _rate_hz(other.stimulus_times_s)
-        if (other is not trial and x.size and float(np.ptp(x)) <= 0.05 and r > 0 and rate > 0
-                and abs(float(x[0]) - x_hold) <= ISOMETRIC_LENGTH_TOL_MM and abs(r - rate) <= ISOMETRIC_RATE_TOL * rate):
-            out.append(i)
-    return out
-
-
-def isometric_level(ids: Sequence[str], trials: Mapping[str, Trial], residuals: Mapping[str, np.ndarray]) -> float:
-    """Mean residual (N, model - measured) over the plateaus of the isometric trials ``ids``; 0 without any."""
-    total, n = 0.0, 0
-    for i in ids:
-        m = plateau(trials[i])
-        total += float(np.sum(np.asarray(residuals[i])[m]))
-        n += int(m.sum())
-    return total / n if n else 0.0
+        r = _regular_rate_hz(other.stimulus_times_s)
+        if (i != trial_id and x.size and float(np.ptp(x)) <= STILL_MM and r > 0 and rate > 0
+                and abs(float(np.mean(x)) - x_hold) <= ISOMETRIC_LENGTH_TOL_MM
+                and abs(r - rate) <= ISOMETRIC_RATE_TOL * rate):
+            refs.append(i)
+    return Hold(mask, tuple(refs), float(t[mask].max() - stim[0]))
 
 
 @dataclass(frozen=True)
@@ -133,17 +182,8 @@ def trial_features(trial: Trial, g1_mm: float) -> TrialFeatures:
     """The :class:`TrialFeatures` of a trial, given the optimum g1 (mm)."""
     stim = np.sort(np.asarray(trial.stimulus_times_s, dtype=float))
     isi = np.diff(stim) * 1000.0
-    t = np.asarray(trial.time_s, dtype=float)
     x = trial.length_at()
-    v = np.gradient(x, t) if x.size > 1 else np.zeros_like(x)
-    moving = np.abs(v) > MOVING_MM_S
-    active = np.zeros(t.size, bool)
-    if stim.size:
-        active = (t >= stim[0]) & (t <= stim[-1] + 0.05)
-
-    def hold_after(sign: int) -> bool:
-        return int(hold_window(trial, sign).sum()) * (t[1] - t[0] if t.size > 1 else 0.0) >= MIN_HOLD_S
-
+    _, v, moving, active = _motion(trial)
     return TrialFeatures(
         n_stimuli=int(stim.size),
         mean_rate_hz=float((stim.size - 1) / (stim[-1] - stim[0])) if stim.size > 1 and stim[-1] > stim[0] else 0.0,
@@ -151,7 +191,7 @@ def trial_features(trial: Trial, g1_mm: float) -> TrialFeatures:
         train_s=float(stim[-1] - stim[0]) if stim.size > 1 else 0.0,
         length_offset_mm=float(np.mean(x) - g1_mm), moving=bool(np.any(moving)),
         lengthening_below_optimum=bool(np.any(moving & (v > 0) & (x < g1_mm) & active)),
-        hold_after_stretch=hold_after(1), hold_after_shortening=hold_after(-1),
+        hold_after_stretch=bool(hold_window(trial, 1).any()), hold_after_shortening=bool(hold_window(trial, -1).any()),
         burst_after_pause=bool(isi.size >= 5 and isi.max() >= 200.0 and np.sum(isi < 200.0) >= 4))
 
 
@@ -166,10 +206,10 @@ class Cause:
     variable: str
     after: int = 0  # +1 / -1: defined by the force after an active stretch / shortening (hold_window); 0: not
 
-    def window(self, trial: Trial) -> np.ndarray | None:
-        """Where the cause is defined in ``trial`` (:func:`hold_window`), or None for a cause defined wherever its
-        telling trials show it."""
-        return hold_window(trial, self.after) if self.after else None
+    def hold(self, trials: Mapping[str, Trial], trial_id: str) -> Hold | None:
+        """Where the cause is defined in trial ``trial_id`` of ``trials`` (:func:`hold`), or None for a cause
+        defined wherever its telling trials show it."""
+        return hold(trials, trial_id, self.after) if self.after else None
 
 
 CAUSES: tuple[Cause, ...] = (

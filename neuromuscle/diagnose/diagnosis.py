@@ -19,12 +19,12 @@ from ..fit.evaluate import TrialPool
 from ..measured import MeasuredData, Trial
 from ..parameters import ParameterSet, load_parameters
 from .baseline import Baseline, calibrate_baseline, check_split_sizes, check_trials
-from .candidates import Candidate, isometric_level, isometric_references, rank_candidates
+from .candidates import Candidate, rank_candidates
 from .extension_fit import ExtensionFit, available, fit_extension, fit_reference
 from .residuals import Noise, Structure, explanatory_variables, noise_level, residual_structure, rest_trend_z
 from .screening import Screen, screen
 from .split import Split, automatic_split, given_split
-from .verdict import (ACTIVE_STRUCTURE_RATIO, Evidence, choose, is_unexplained, judge, rest_left,
+from .verdict import (ACTIVE_STRUCTURE_RATIO, Evidence, HoldSamples, choose, is_unexplained, judge, rest_left,
                       structured_trials)
 
 #: Most candidates fitted: testable ones with an extension in the catalogue whose linearised gain at the reference
@@ -116,17 +116,18 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
         return {i: rest_trend_z(t, simulated[i] - measured[i], simulated[i], noise[i])
                 for i, t in data.trials.items()}
 
-    def defined_where(name: str) -> dict[str, tuple[np.ndarray, float]] | None:
-        """Rule 7 (verdict.judge): by held-out trial, where the cause is defined and the reference's misfit of
-        the isometric force at that length (N); None for a cause defined wherever its telling trials show it."""
+    def defined_where(name: str, simulated: dict[str, np.ndarray]) -> dict[str, HoldSamples] | None:
+        """Rule 7 (verdict.judge): by held-out trial, where the cause is defined and the reference's and the
+        candidate's (``simulated``) misfit of the isometric force at that length (N); None for a cause defined
+        wherever its telling trials show it."""
         cause = next(c.cause for c in candidates if c.cause.name == name)
         if not cause.after:
             return None
         out = {}
         for i in split.heldout:
-            m = cause.window(data.trials[i])
-            refs = isometric_references(data.trials, data.trials[i], m)
-            out[i] = (m, isometric_level(refs, data.trials, ref_residual))
+            h = cause.hold(data.trials, i)
+            out[i] = HoldSamples(h.mask, h.references, h.level(data.trials, ref_residual),
+                                 h.level(data.trials, {j: simulated[j] - measured[j] for j in h.references}))
         return out
 
     cal = [data.trials[i] for i in split.calibration]
@@ -147,7 +148,7 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
                                        noise=noise)
         lr = (reference.fit.cost - f.fit.cost, f.n_parameters * math.log(max(n_eff_cal, 2.0)))
         evidence[name] = judge(split.heldout, measured, reference.simulated, f.simulated, noise, f.n_parameters,
-                               f.away_from_neutral(), calibration=lr, window=defined_where(name))
+                               f.away_from_neutral(), calibration=lr, window=defined_where(name, f.simulated))
         rests[name] = rest_of(f.simulated)
         left = rest_left(rests[name])
         if left:

@@ -128,8 +128,8 @@ def standard_protocols(optimum_mm: float) -> list[PlannedTrial]:
 
 
 def extended_protocols(optimum_mm: float) -> list[PlannedTrial]:
-    """The standard set around ``optimum_mm`` (mm), unchanged and first, then twitch series, post-tetanic probes
-    and cyclic length (module docstring)."""
+    """The standard set around ``optimum_mm`` (mm), unchanged and first, then twitch series, post-tetanic probes,
+    cyclic length and (since stop 39) the long stretch- and shortening-holds (module docstring)."""
     opt = float(optimum_mm)
     lengths = {"short": opt - SHORT_MM, "opt": opt, "long": opt + LONG_MM}
     return (standard_protocols(opt) + _twitch_series(opt) + _post_tetanic(opt) + _cyclic(opt - SHORT_MM, opt)

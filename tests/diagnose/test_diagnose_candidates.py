@@ -1,13 +1,12 @@
-"""Where the causes defined after a movement are judged: the isometric hold from 0.2 s after an active stretch or
-shortening, while stimulated (candidates.hold_window), the telling trials it makes, and the isometric force at
-the same length that the hold is measured from."""
+"""Where the causes defined after a movement are judged: each stimulated isometric hold from 0.2 s after an active
+stretch or shortening (candidates.hold_window), the telling trials it makes, and the isometric force at the same
+length that the hold is measured from (candidates.hold, Hold.level)."""
 
 import numpy as np
 import pytest
 
-from neuromuscle.diagnose.candidates import (CAUSES, HOLD_DELAY_S, hold_window, isometric_level, isometric_references,
-                                             plateau, trial_features)
-from neuromuscle.measured import MeasuredData
+from neuromuscle.diagnose.candidates import CAUSES, HOLD_DELAY_S, RISE_S, hold, hold_window, stimulated, trial_features
+from neuromuscle.measured import Trial
 from neuromuscle.synth import extended_protocols
 from neuromuscle.synth.dataset import _empty_trial
 
@@ -17,6 +16,13 @@ OPT = -8.0
 @pytest.fixture(scope="module")
 def plan():
     return {p.trial_id: _empty_trial(p) for p in extended_protocols(OPT)}
+
+
+def _moving_trial(knots_s, knots_mm, stimuli_s, duration_s=4.0):
+    t = np.arange(0.0, duration_s, 0.001)
+    return Trial(trial_id="x", protocol="test", time_s=t, force=np.zeros(t.size), force_unit="N", length_unit="mm",
+                 length_const=None, length=np.interp(t, knots_s, knots_mm), stimulus_times_s=np.asarray(stimuli_s),
+                 attrs={})
 
 
 @pytest.mark.parametrize("tid, sign, ramp_end_s, last_stim_s",
@@ -34,20 +40,39 @@ def test_the_hold_window_starts_after_the_movement_and_ends_with_the_activity(pl
     assert np.ptp(trial.length_at()[w]) < 1e-9  # the length is still there
 
 
+def test_a_hold_ends_at_the_next_movement_and_belongs_to_the_movement_before_it():
+    """Stretch (0.5-0.75 s), hold, shortening (1.5-1.75 s), hold, all during a 40 Hz train: the hold after the
+    stretch ends where the shortening starts, and the hold after the shortening is force depression's."""
+    trial = _moving_trial([0.0, 0.5, 0.75, 1.5, 1.75, 4.0], [-8, -8, -3, -3, -8, -8], 0.1 + np.arange(150) / 40)
+    t = np.asarray(trial.time_s)
+    fe, fd = hold_window(trial, 1), hold_window(trial, -1)
+    assert t[fe].min() == pytest.approx(0.95, abs=0.003) and t[fe].max() < 1.5
+    assert t[fd].min() == pytest.approx(1.95, abs=0.003) and t[fd].max() == pytest.approx(3.825 + 0.05, abs=0.002)
+    assert not (fe & fd).any()
+
+
+def test_a_pause_between_bursts_is_not_a_stimulated_hold():
+    """A stretch during a 40 Hz burst that ends 0.1 s after it, then a second burst 1 s later: the pause is not
+    stimulated, and the burst after it no longer follows the stretch (its hold is no hold after the movement)."""
+    stim = np.concatenate([0.1 + np.arange(30) / 40, 2.0 + np.arange(40) / 40])  # 0.1-0.825 s, 2.0-2.975 s
+    trial = _moving_trial([0.0, 0.5, 0.6, 4.0], [-8, -8, -6, -6], stim)
+    t = np.asarray(trial.time_s)
+    active = stimulated(t, stim)
+    assert not active[(t > 0.9) & (t < 2.0)].any() and active[(t > 2.0) & (t < 3.0)].all()
+    w = hold_window(trial, 1)
+    assert t[w].min() == pytest.approx(0.8, abs=0.003) and t[w].max() == pytest.approx(0.875, abs=0.002)
+
+
 def test_trials_without_a_hold_after_the_movement_have_no_window(plan):
-    for tid in ("random_length20", "cyclic10", "train40_opt", "twitch_opt"):
+    for tid in ("random_length10", "random_length20", "cyclic10", "cyclic20", "train40_opt", "twitch_opt", "step100"):
         assert not hold_window(plan[tid], 1).any() and not hold_window(plan[tid], -1).any(), tid
 
 
-def test_the_causes_defined_after_a_movement_tell_from_the_same_window(plan):
+def test_the_causes_defined_after_a_movement_tell_by_their_hold(plan):
     by_name = {c.name: c for c in CAUSES}
     fe, fd = by_name["force_enhancement_after_stretch"], by_name["force_depression_after_shortening"]
     assert (fe.after, fd.after) == (1, -1)
-    assert all(c.after == 0 and c.window(plan["stretch_hold40"]) is None for c in CAUSES if c not in (fe, fd))
-    for tid, trial in plan.items():
-        f = trial_features(trial, OPT)
-        assert fe.telling(f) == bool(fe.window(trial).sum() * 1e-3 >= 0.05), tid
-        assert fd.telling(f) == bool(fd.window(trial).sum() * 1e-3 >= 0.05), tid
+    assert all(c.after == 0 and c.hold(plan, "stretch_hold40") is None for c in CAUSES if c not in (fe, fd))
     assert {t for t, tr in plan.items() if fe.telling(trial_features(tr, OPT))} == \
         {"ramp_lengthen10", "ramp_lengthen40", "stretch_hold40", "stretch_hold40_4s"}
     assert {t for t, tr in plan.items() if fd.telling(trial_features(tr, OPT))} == \
@@ -56,18 +81,26 @@ def test_the_causes_defined_after_a_movement_tell_from_the_same_window(plan):
 
 @pytest.mark.parametrize("tid, sign, refs", [
     ("stretch_hold40_4s", 1, {"train40_long"}), ("shorten_hold40_4s", -1, {"train40_opt", "long_train40_opt"}),
-    ("ramp_lengthen40", 1, {"train40_opt", "long_train40_opt"}), ("ramp_shorten10", -1, {"train10_short"})])
-def test_the_isometric_force_at_the_same_length_comes_from_trials_at_that_length_and_rate(plan, tid, sign, refs):
-    assert set(isometric_references(plan, plan[tid], hold_window(plan[tid], sign))) == refs
-    assert isometric_references(plan, plan["random_length20"], hold_window(plan["random_length20"], 1)) == []
+    ("ramp_lengthen40", 1, {"train40_opt", "long_train40_opt"}), ("ramp_shorten10", -1, {"train10_short"}),
+    ("ramp_lengthen10", 1, {"train10_opt"})])
+def test_the_isometric_force_at_the_same_length_comes_from_regular_trains_at_that_length_and_rate(plan, tid, sign,
+                                                                                                   refs):
+    """Doublets (10 Hz with one 5-15 ms interval), post-tetanic probes and potentiation protocols are no
+    reference; a hold at 40 Hz is matched by 40 Hz trains only."""
+    h = hold(plan, tid, sign)
+    assert set(h.references) == refs and h.mask.any()
+    assert hold(plan, "random_length20", 1).references == ()
 
 
-def test_the_isometric_level_is_the_mean_residual_on_the_plateaus(plan):
-    """The rise (the first 0.2 s of stimulation) and the relaxation are left out; trials count by their samples."""
+def test_the_isometric_level_is_over_the_same_span_of_stimulation_each_trial_counting_once(plan):
+    """The rise (RISE_S) is left out, and a 12 s train counts only up to the hold's end (4.0 s of stimulation in
+    the long shortening-hold), as much as a 1 s train."""
+    h = hold(plan, "shorten_hold40_4s", -1)
+    assert h.until_s == pytest.approx(4.075 + 0.05 - 0.1, abs=0.002)  # last stimulus + 50 ms, from the first
     res = {}
-    for tid in ("train40_opt", "long_train40_opt"):
+    for tid in h.references:
         t = np.asarray(plan[tid].time_s)
-        res[tid] = np.where(t < 0.1 + HOLD_DELAY_S, 5.0, 1.0 if tid == "train40_opt" else 2.0)
-    n1, n2 = (int(plateau(plan[i]).sum()) for i in ("train40_opt", "long_train40_opt"))
-    assert isometric_level(["train40_opt", "long_train40_opt"], plan, res) == pytest.approx((n1 + 2 * n2) / (n1 + n2))
-    assert isometric_level([], plan, res) == 0.0
+        res[tid] = np.where(t < 0.1 + RISE_S, 5.0, np.where(t > 0.1 + h.until_s + 0.01, 9.0,
+                                                              1.0 if tid == "train40_opt" else 2.0))
+    assert h.level(plan, res) == pytest.approx(1.5)
+    assert hold(plan, "cyclic10", 1).level(plan, res) == 0.0  # no hold, no reference

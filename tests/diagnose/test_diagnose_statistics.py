@@ -9,7 +9,7 @@ from conftest import ar1
 from diagnose_datasets import make_data
 from neuromuscle.diagnose.residuals import noise_level, rest_mask, rest_trend_z
 from neuromuscle.diagnose.split import automatic_split, given_split
-from neuromuscle.diagnose.verdict import choose, is_unexplained, judge, rest_left, rest_structured
+from neuromuscle.diagnose.verdict import HoldSamples, choose, is_unexplained, judge, rest_left, rest_structured
 from neuromuscle.measured import Trial
 from neuromuscle.errors import InputError
 
@@ -86,9 +86,10 @@ def test_a_diffuse_excess_is_something_to_explain_only_when_the_candidate_explai
     assert ev.passed is explains
 
 
-def _history_case(shape, level=0.0):
+def _history_case(shape, level=0.0, level_after=None):
     """Four held-out trials whose reference misses ``shape`` (N); the candidate removes 80 % of it; the window is
-    each trial's second half (the hold), measured from the isometric ``level`` (N)."""
+    each trial's second half (the hold), measured from the isometric ``level`` (N) of the reference and
+    ``level_after`` (default: the same) of the candidate."""
     rng = np.random.default_rng(1)
     n = 1000
     hold = np.arange(n) >= 500
@@ -98,7 +99,8 @@ def _history_case(shape, level=0.0):
         meas[k] = truth + ar1(rng, n, 0.05, 0.6)
         before[k], after[k] = truth + shape, truth + 0.2 * shape
         noise[k] = noise_level(before[k] - meas[k])
-    return ids, meas, before, after, noise, {k: (hold, level) for k in ids}
+    lv1 = level if level_after is None else level_after
+    return ids, meas, before, after, noise, {k: HoldSamples(hold, ("iso",), level, lv1) for k in ids}
 
 
 @pytest.mark.parametrize("in_window, passes", [(True, True), (False, False)])
@@ -113,7 +115,8 @@ def test_a_history_cause_must_gain_where_it_is_defined(in_window, passes):
     assert not [f for f in ev.failed if not f.startswith("where the cause is defined")], ev.text()
     assert (ev.window_chi2_gain > ev.window_penalty and ev.window_p05 > 0) is passes
     assert ev.passed is passes, ev.text()
-    assert ev.to_json()["window_chi2_gain"] == pytest.approx(ev.window_chi2_gain)
+    assert ev.window_trials[0]["samples"] == 500 and ev.window_trials[0]["isometric_references"] == ["iso"]
+    assert sum(w["chi2_gain"] for w in ev.to_json()["window_trials"].values()) == pytest.approx(ev.window_chi2_gain)
     assert "from the isometric force at that length" in ev.text()
 
 
@@ -128,12 +131,18 @@ def test_a_hold_misfit_the_isometric_trials_share_is_not_a_history_effect():
     assert ev.window_chi2_gain < 0 and not ev.passed, ev.text()
     ids, meas, before, after, noise, window = _history_case(shortfall, level=0.0)
     assert judge(ids, meas, before, after, noise, 2, ["x.k"], window=window).passed
+    # a candidate that only raises the isometric force at that length (its refit) is measured from its own level
+    ids, meas, before, after, noise, window = _history_case(shortfall, level=-0.3, level_after=-0.06)
+    ev = judge(ids, meas, before, after, noise, 2, ["x.k"], window=window)
+    assert abs(ev.window_chi2_gain) < ev.window_penalty and not ev.passed, ev.text()
 
 
 def test_a_history_cause_without_a_held_out_hold_is_not_named():
     ids, meas, before, after, noise = _case(np.random.default_rng(1), 0.0, 0.3, 0.8)
-    ev = judge(ids, meas, before, after, noise, 2, ["x.k"], window={k: (np.zeros(1000, bool), 0.0) for k in ids})
+    ev = judge(ids, meas, before, after, noise, 2, ["x.k"],
+               window={k: HoldSamples(np.zeros(1000, bool), (), 0.0, 0.0) for k in ids})
     assert ev.failed == ["no held-out trial has the isometric hold after the movement that defines the cause"]
+    assert ev.window_p05 is None and "FAILS: no held-out trial has the isometric hold" in ev.text()
     assert judge(ids, meas, before, after, noise, 2, ["x.k"]).window_chi2_gain is None  # other causes: no rule 7
 
 
