@@ -14,7 +14,9 @@ definition applies: the isometric hold from ``HOLD_DELAY_S`` after the trial's l
 while stimulated.  The same window makes a trial telling for them (``TrialFeatures.hold_after_*``) and is where
 :mod:`.verdict` requires their extension to gain (rule 7), measured from "the isometric force at the same length":
 :func:`hold` finds the isometric trials at the hold's length and stimulation rate, whose mean residual over the
-same span of stimulation (:meth:`Hold.level`) is a misfit a history effect does not explain.
+same span of stimulation (:meth:`Window.level`) is a misfit a history effect does not explain.  Every other cause is
+defined on its telling trials (:meth:`Cause.where`), the moving ones only for the two causes that act through the
+movement (movement-induced depression, lengthening below the optimum).
 """
 
 from __future__ import annotations
@@ -99,10 +101,11 @@ def hold_window(trial: Trial, sign: int, delay_s: float = HOLD_DELAY_S) -> np.nd
 
 
 @dataclass(frozen=True)
-class Hold:
-    """Where a cause defined after a movement is judged in one trial: the hold ``mask`` (:func:`hold_window`), the
-    isometric trials at its length and rate (``references``), and the span of stimulation (s since the first
-    stimulus) over which their force is compared, to the end of the hold (``until_s``)."""
+class Window:
+    """Where a cause is judged in one trial (rule 7 of :mod:`.verdict`): the samples (``mask``) and, for a hold
+    after a movement (:func:`hold_window`), the isometric trials at its length and rate (``references``) and the
+    span of stimulation (s since the first stimulus) over which their force is compared, to the end of the hold
+    (``until_s``); no references otherwise."""
 
     mask: np.ndarray
     references: tuple[str, ...]
@@ -133,15 +136,15 @@ def _regular_rate_hz(stimuli_s: np.ndarray) -> float:
     return 1.0 / med if med > 0 and np.all(np.abs(isi - med) <= ISOMETRIC_RATE_TOL * med) else 0.0
 
 
-def hold(trials: Mapping[str, Trial], trial_id: str, sign: int) -> Hold:
-    """The :class:`Hold` of trial ``trial_id`` for movements of ``sign``: its hold window and the isometric trials
+def hold(trials: Mapping[str, Trial], trial_id: str, sign: int) -> Window:
+    """The :class:`Window` of trial ``trial_id`` for movements of ``sign``: its hold window and the isometric trials
     of ``trials`` (either side of the split: the model's misfit there is calibration, not history) whose constant
     length lies within ISOMETRIC_LENGTH_TOL_MM (mm) of the hold's mean length and whose regular rate is the
     hold's within ISOMETRIC_RATE_TOL."""
     trial = trials[trial_id]
     mask = hold_window(trial, sign)
     if not mask.any():
-        return Hold(mask, (), 0.0)
+        return Window(mask, (), 0.0)
     t = np.asarray(trial.time_s, dtype=float)
     stim = np.sort(np.asarray(trial.stimulus_times_s, dtype=float))
     x_hold = float(np.mean(trial.length_at()[mask]))
@@ -156,7 +159,7 @@ def hold(trials: Mapping[str, Trial], trial_id: str, sign: int) -> Hold:
                 and abs(float(np.mean(x)) - x_hold) <= ISOMETRIC_LENGTH_TOL_MM
                 and abs(r - rate) <= ISOMETRIC_RATE_TOL * rate):
             refs.append(i)
-    return Hold(mask, tuple(refs), float(t[mask].max() - stim[0]))
+    return Window(mask, tuple(refs), float(t[mask].max() - stim[0]))
 
 
 @dataclass(frozen=True)
@@ -205,11 +208,20 @@ class Cause:
     telling: Callable[[TrialFeatures], bool]
     variable: str
     after: int = 0  # +1 / -1: defined by the force after an active stretch / shortening (hold_window); 0: not
+    moves: bool = False  # acts through the movement itself (judged on moving trials too)
 
-    def hold(self, trials: Mapping[str, Trial], trial_id: str) -> Hold | None:
-        """Where the cause is defined in trial ``trial_id`` of ``trials`` (:func:`hold`), or None for a cause
-        defined wherever its telling trials show it."""
-        return hold(trials, trial_id, self.after) if self.after else None
+    def where(self, trials: Mapping[str, Trial], trial_id: str, telling: bool) -> Window:
+        """Where the cause is defined in trial ``trial_id`` of ``trials`` (rule 7 of :mod:`.verdict`), given
+        whether the trial is of its telling kind: for a cause defined after a movement, the hold after it
+        (:func:`hold`); for a cause that acts through the movement, the whole of a telling trial; for any other,
+        the whole of a telling trial that does not move (movement brings the force-velocity misfit of a
+        preparation, which such a cause does not explain).  An empty mask elsewhere."""
+        if self.after:
+            return hold(trials, trial_id, self.after)
+        trial = trials[trial_id]
+        n = np.asarray(trial.time_s).size
+        ok = telling and (self.moves or not bool(np.any(_motion(trial)[2])))
+        return Window(np.full(n, ok), (), 0.0)
 
 
 CAUSES: tuple[Cause, ...] = (
@@ -218,9 +230,9 @@ CAUSES: tuple[Cause, ...] = (
           lambda f: not f.moving and f.mean_rate_hz <= 20.0 and abs(f.length_offset_mm) > 2.0, "length"),
     Cause("movement_induced_depression", "force sinks progressively during movement at low rates",
           "stimulated trials with movement at <= 20 Hz",
-          lambda f: f.moving and 0 < f.mean_rate_hz <= 20.0, "time_since_movement_onset"),
+          lambda f: f.moving and 0 < f.mean_rate_hz <= 20.0, "time_since_movement_onset", moves=True),
     Cause("lengthening_below_optimum", "excess model force while lengthening below the optimum",
-          "stimulated lengthening below the optimum", lambda f: f.lengthening_below_optimum, "velocity"),
+          "stimulated lengthening below the optimum", lambda f: f.lengthening_below_optimum, "velocity", moves=True),
     Cause("staircase", "twitch amplitude changes over successive stimuli at low rates",
           "trains of >= 5 stimuli at <= 15 Hz", lambda f: f.n_stimuli >= 5 and 0 < f.mean_rate_hz <= 15.0,
           "position_in_train"),

@@ -24,7 +24,7 @@ from .extension_fit import ExtensionFit, available, fit_extension, fit_reference
 from .residuals import Noise, Structure, explanatory_variables, noise_level, residual_structure, rest_trend_z
 from .screening import Screen, screen
 from .split import Split, automatic_split, given_split
-from .verdict import (ACTIVE_STRUCTURE_RATIO, Evidence, HoldSamples, choose, is_unexplained, judge, rest_left,
+from .verdict import (ACTIVE_STRUCTURE_RATIO, Evidence, WindowSamples, choose, is_unexplained, judge, rest_left,
                       structured_trials)
 
 #: Most candidates fitted: testable ones with an extension in the catalogue whose linearised gain at the reference
@@ -116,17 +116,15 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
         return {i: rest_trend_z(t, simulated[i] - measured[i], simulated[i], noise[i])
                 for i, t in data.trials.items()}
 
-    def defined_where(name: str, simulated: dict[str, np.ndarray]) -> dict[str, HoldSamples] | None:
-        """Rule 7 (verdict.judge): by held-out trial, where the cause is defined and the reference's and the
-        candidate's (``simulated``) misfit of the isometric force at that length (N); None for a cause defined
-        wherever its telling trials show it."""
-        cause = next(c.cause for c in candidates if c.cause.name == name)
-        if not cause.after:
-            return None
+    def defined_where(name: str, simulated: dict[str, np.ndarray]) -> dict[str, WindowSamples]:
+        """Rule 7 (verdict.judge): by held-out trial, where the cause is defined (Cause.where) and, for a hold after
+        a movement, the reference's and the candidate's (``simulated``) misfit of the isometric force at that
+        length (N)."""
+        c = next(c for c in candidates if c.cause.name == name)
         out = {}
         for i in split.heldout:
-            h = cause.hold(data.trials, i)
-            out[i] = HoldSamples(h.mask, h.references, h.level(data.trials, ref_residual),
+            h = c.cause.where(data.trials, i, i in c.telling_heldout)
+            out[i] = WindowSamples(h.mask, h.references, h.level(data.trials, ref_residual),
                                  h.level(data.trials, {j: simulated[j] - measured[j] for j in h.references}))
         return out
 

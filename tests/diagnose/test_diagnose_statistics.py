@@ -9,7 +9,7 @@ from conftest import ar1
 from diagnose_datasets import make_data
 from neuromuscle.diagnose.residuals import noise_level, rest_mask, rest_trend_z
 from neuromuscle.diagnose.split import automatic_split, given_split
-from neuromuscle.diagnose.verdict import HoldSamples, choose, is_unexplained, judge, rest_left, rest_structured
+from neuromuscle.diagnose.verdict import WindowSamples, choose, is_unexplained, judge, rest_left, rest_structured
 from neuromuscle.measured import Trial
 from neuromuscle.errors import InputError
 
@@ -100,7 +100,7 @@ def _history_case(shape, level=0.0, level_after=None):
         before[k], after[k] = truth + shape, truth + 0.2 * shape
         noise[k] = noise_level(before[k] - meas[k])
     lv1 = level if level_after is None else level_after
-    return ids, meas, before, after, noise, {k: HoldSamples(hold, ("iso",), level, lv1) for k in ids}
+    return ids, meas, before, after, noise, {k: WindowSamples(hold, ("iso",), level, lv1) for k in ids}
 
 
 @pytest.mark.parametrize("in_window, passes", [(True, True), (False, False)])
@@ -137,12 +137,12 @@ def test_a_hold_misfit_the_isometric_trials_share_is_not_a_history_effect():
     assert abs(ev.window_chi2_gain) < ev.window_penalty and not ev.passed, ev.text()
 
 
-def test_a_history_cause_without_a_held_out_hold_is_not_named():
+def test_a_cause_with_no_held_out_trial_where_it_is_defined_is_not_named():
     ids, meas, before, after, noise = _case(np.random.default_rng(1), 0.0, 0.3, 0.8)
     ev = judge(ids, meas, before, after, noise, 2, ["x.k"],
-               window={k: HoldSamples(np.zeros(1000, bool), (), 0.0, 0.0) for k in ids})
-    assert ev.failed == ["no held-out trial has the isometric hold after the movement that defines the cause"]
-    assert ev.window_p05 is None and "FAILS: no held-out trial has the isometric hold" in ev.text()
+               window={k: WindowSamples(np.zeros(1000, bool), (), 0.0, 0.0) for k in ids})
+    assert ev.failed == ["no held-out trial where the cause is defined"]
+    assert ev.window_p05 is None and "FAILS: no held-out trial where the cause is defined" in ev.text()
     assert judge(ids, meas, before, after, noise, 2, ["x.k"]).window_chi2_gain is None  # other causes: no rule 7
 
 
