@@ -1,12 +1,12 @@
-"""The CI's sample of the suite, continued (a file of its own, so that the test runners share the long cases): a
-null whose misfit looks like force enhancement in the held-out long stretch-hold must come back none.
+"""The CI's sample of the suite, continued (a file of its own, so that the test runners share the long cases): its
+null, one whose misfit looks like force enhancement in the held-out long stretch-hold must come back none.
 
 The second null of ``--suite 10 --seed 2``: its reference falls short of the force at the long length, in the
 isometric 40 Hz train as in the stretch-holds (-1.43 and -1.08 noise sd in the long hold).  The force-enhancement
 extension adds that force after the stretch and gains 1154 noise variances held out, 318 in the held-out long
 hold itself; with each model measured from its own misfit of the isometric force at the same length, as the cause
 is defined, it gains -892 in the held-out holds, and rule 7 stops it (stop 39; without the isometric level it was
-named).  About 5 min on 2 cores."""
+named).  About 5 min in CI on 2 cores."""
 
 from neuromuscle.bench.diagnose_suite import run_suite, score
 
