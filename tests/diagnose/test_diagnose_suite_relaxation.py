@@ -4,7 +4,7 @@ hidden relaxation effect of ``--suite 5 --seed 1``'s seed 3, spread thin over ma
 Its reference leaves no held-out trial above 1.5 noise sd (the four largest at 1.38-1.42), so until stop 37 the rule
 "something to explain" stopped relaxation_rate, which removes 59 % of the held-out excess; since stop 38 a candidate
 that removes more than half of that excess has something to explain (neuromuscle.diagnose.verdict, rule 0).  About
-4.5 min in CI on 2 cores (stop 39)."""
+5 min in CI on 2 cores (stop 40)."""
 
 from neuromuscle.bench.diagnose_suite import run_suite, score
 

@@ -1,9 +1,9 @@
 """The CI's sample of ``neuromuscle bench diagnose --suite``: synth preparations of the suite's draws (seed 1), made
 with ``neuromuscle synth`` (its extended protocol set, the suite's since stop 36) and diagnosed blind: an effect
-must be named with a held-out gain that passes every rule.  About 4 min in CI on 2 cores.  The sample's null is
-test_diagnose_suite_false_alarm.py, its weak relaxation effect test_diagnose_suite_relaxation.py; the rates over five
-seeds per cause are the benchmark's, in docs/diagnosis.md.  The null and the fatigue-like effect of tests/diagnose's
-own preparations are test_diagnose_verdicts.py.
+must be named with a held-out gain that passes every rule.  About 2.5 min in CI on 2 cores (stop 40).  The
+sample's null is test_diagnose_suite_false_alarm.py, its weak relaxation effect test_diagnose_suite_relaxation.py;
+the rates over five seeds per cause are the benchmark's, in docs/diagnosis.md.  The null and the fatigue-like
+effect of tests/diagnose's own preparations are test_diagnose_verdicts.py.
 
 Until stop 39 the sample also diagnosed the five-seed suite's fifth null, whose release decays a third faster than
 CT09's (the false alarm relaxation_rate made of it until the reference refitted tau2): at ~5 min it took the suite
