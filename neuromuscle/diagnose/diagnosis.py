@@ -125,7 +125,7 @@ def _diagnose(data: MeasuredData, split: Split, base: ParameterSet, trials: list
         for i in split.heldout:
             h = c.cause.where(data.trials, i, i in c.telling_heldout)
             out[i] = WindowSamples(h.mask, h.references, h.level(data.trials, ref_residual),
-                                 h.level(data.trials, {j: simulated[j] - measured[j] for j in h.references}))
+                                   h.level(data.trials, {j: simulated[j] - measured[j] for j in h.references}))
         return out
 
     cal = [data.trials[i] for i in split.calibration]

@@ -267,8 +267,9 @@ def judge(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: Ma
         else:
             w_p05 = block_bootstrap_p05(w_samples, w_noise, np.random.default_rng(seed + 1))
             if not (w_gain > w_penalty and w_p05 > 0):
-                failed.append(f"where the cause is defined ({', '.join(map(str, w_trials))}) chi2 gain {w_gain:.1f} vs BIC "
-                              f"penalty {w_penalty:.1f}, bootstrap 5th percentile {w_p05:.3g}")
+                where = ", ".join(map(str, w_trials))
+                failed.append(f"where the cause is defined ({where}) chi2 gain {w_gain:.1f} vs BIC penalty "
+                              f"{w_penalty:.1f}, bootstrap 5th percentile {w_p05:.3g}")
     return Evidence(gain, float(np.mean(nr0)), float(np.mean(nr1)), chi2, penalty, p05, excess, removed, identified,
                     failed, *(calibration if calibration is not None else (None, None)), w_gain, w_penalty, w_p05,
                     w_trials)
