@@ -23,6 +23,10 @@ Coupling (documented interface, see neuromuscle/model/kim.py):
   POINTER xm, vm -> muscle length (mm) and velocity (mm/s) of a MuscleLength point process
   POINTER tauA_gain -> modulation port (1): tau_A is multiplied by it (an extension's RANGE output); read only
                    when use_ports = 1 (set by the Python wiring), else 1; x/1 is exact: off is bit-identical.
+  POINTER C1_shift -> modulation port (1, normalised [CaSPT] as C1): the half-activation point of eq 8 moves to
+                   C1 + C1_shift (Atil_inf = 0.5 (1 + tanh((x - C1 - C1_shift)/C2))); read only when
+                   use_ports = 1, else 0; a shift of exactly 0 takes eq 8's own expression: off and neutral are
+                   bit-identical (points at RANGE zero when unused).
   The shared parameters are read through their POINTERs once, at INITIAL (T0c, phi1c, phi2c, xoptc).
   RANGE A        <- read by the force mechanism (KimForce POINTER act).  Any excitation model that exposes an
                    activation A in [0, 1] can take this place in front of Module 3.
@@ -38,9 +42,9 @@ NEURON {
     POINT_PROCESS KimAct
     THREADSAFE
     RANGE C1, C2, C3, C4, C5, alpha, alpha1, alpha2, alpha3, beta, gamma
-    RANGE movdep, lengdiv, onset, Afloor, unity, use_ports, rest
+    RANGE movdep, lengdiv, onset, Afloor, unity, zero, use_ports, rest
     RANGE A, alpha_t, Ainf, tauA, atil0, asw, ssw
-    POINTER caspt, xm, vm, T0, phi1, phi2, xopt, tauA_gain
+    POINTER caspt, xm, vm, T0, phi1, phi2, xopt, tauA_gain, C1_shift
     RANGE T0c, phi1c, phi2c, xoptc
 }
 
@@ -66,6 +70,7 @@ PARAMETER {
     Afloor = 0.001 (1)
     atil0 = 0 (1)
     unity = 1 (1)
+    zero = 0 (1)
     use_ports = 0 (1)
     rest = 1 (1)
 }
@@ -78,6 +83,7 @@ ASSIGNED {
     phi2 (1)
     xopt (mm)
     tauA_gain (1)
+    C1_shift (1)
     T0c (M)
     phi1c (/mm)
     phi2c (1)
@@ -162,6 +168,9 @@ PROCEDURE rates() {
     ev = exp((x - C4)/(2*C5))
     if (use_ports) {
         kA = 0.5*(ev + 1/ev)/C3/tauA_gain
+        if (C1_shift != 0) {
+            Ainf = 1/(1 + exp(-2*(x - C1 - C1_shift)/C2))
+        }
     } else {
         kA = 0.5*(ev + 1/ev)/C3
     }

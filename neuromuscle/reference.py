@@ -94,7 +94,8 @@ class StateModulation:
 
 
 #: The modulation ports of the mechanisms and their neutral values (an extension's twin supplies functions of t).
-NEUTRAL_PORTS = {"release_gain": 1.0, "uptake_gain": 1.0, "tauA_gain": 1.0, "force_offset": 0.0}
+NEUTRAL_PORTS = {"release_gain": 1.0, "uptake_gain": 1.0, "tauA_gain": 1.0, "force_offset": 0.0,
+                 "C1_shift": 0.0}
 
 
 def _port(mod: Mapping[str, Callable[[float], float]], name: str, t: float) -> float:
@@ -134,7 +135,7 @@ def _rhs(t: float, y: np.ndarray, p: Mapping[str, float], spikes: np.ndarray, tr
     sb = p["K3"] * CaSP * (p["B0"] - CaSPB) - p["K4"] * CaSPB
     st = K5 * CaSP * (p["T0"] - CaSPT) - K6 * CaSPT
     xt = CaSPT / p["T0"]
-    ainf = 0.5 * (1.0 + np.tanh((xt - p["C1"]) / p["C2"]))
+    ainf = 0.5 * (1.0 + np.tanh((xt - p["C1"] - port["C1_shift"]) / p["C2"]))
     tau = port["tauA_gain"] * p["C3"] / np.cosh((xt - p["C4"]) / (2.0 * p["C5"]))
     Fc = floored_capacity(float(force_length(x, p["g1"], p["g2"], p["P0"])) * A, p["P0"])
     extra = list(mod.rhs(t, y[7:], obs)) if isinstance(mod, StateModulation) else []

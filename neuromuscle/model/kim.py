@@ -112,6 +112,7 @@ class KimActivation(Component):
         Port("xm", "mm", "length.xm"),
         Port("vm", "mm/s", "length.vm"),
         Port("tauA_gain", "1", None, "unity"),
+        Port("C1_shift", "1", None, "zero"),
     )
     exposes = {"A": "1", "Ainf": "1", "tauA": "ms", "alpha_t": "1", "asw": "1", "ssw": "1"}
     states = (State("atil", "1", 1e-5),)

@@ -1,6 +1,7 @@
-"""The length and movement side of the catalogue: eqs 18 and 19 selectable alone by name (switch extensions of
-KimCa / KimAct), the release loss while lengthening below the optimum (mod/ext_lengthening.mod; eq 20 stays the
-baseline's own switch), and the history-dependent element (force enhancement after stretch, force depression after
+"""The length and movement side of the catalogue: eq 18 selectable alone by name (a switch extension of KimCa),
+a Ca2+ sensitivity falling on eq 19's time course, on a movement clock that runs down at rest
+(mod/ext_movement.mod, KimAct's C1_shift port; the seed's eqs 19-20 stay the baseline's own switches), the release loss while lengthening below the optimum
+(mod/ext_lengthening.mod), and the history-dependent element (force enhancement after stretch, force depression after
 shortening) driving KimForce's force_offset.  Off or neutral: bit-identical to the baseline in fixed step; on:
 the NMODL (fixed step and CVODE) against the SciPy twin under movement; the effects have their stated sign."""
 
@@ -35,7 +36,7 @@ SPIKES = constant_rate(30, 500.0, start_ms=50.0)
 # the switches that turn the same equation on in the twin
 CASES = {
     LDA: ({"phi1": 0.02, "phi2": 1.16, "phi3": 0.012, "phi4": 1.096}, dict(length_compensation=True)),
-    MID: ({"alpha1": 3.0, "alpha2": 150.0, "alpha3": 100.0}, dict(movement_depression=True)),
+    MID: ({"k": 0.1, "t50": 100.0, "width": 100.0, "trec": 500.0, "v0": 3.0}, {}),
     LBO: ({"k": 0.5, "v0": 20.0}, {}),
     FE: ({"k": 0.3, "L": 3.0, "tau": 1000.0}, {}),
     FD: ({"k": 0.3, "L": 3.0, "tau": 1000.0}, {}),
@@ -44,12 +45,17 @@ CASES = {
 
 def test_the_five_are_found_by_name_with_neutral_values():
     cat = registry()
-    for name in (LDA, MID):
-        assert issubclass(cat[name], SwitchExtension) and cat[name].suffix == ""
+    assert issubclass(cat[LDA], SwitchExtension) and cat[LDA].suffix == ""
     assert {p.name: p.neutral for p in cat[LDA].parameters} == {"phi1": 0.0, "phi2": 1.0, "phi3": 0.0, "phi4": 1.0}
-    assert [p.name for p in cat[MID].parameters] == ["alpha1", "alpha2", "alpha3"]
-    # their parameters are the baseline's own: a fit of the extension varies kim_m1.phi1, kim_m2.alpha1 ...
-    assert cat[LDA].qualified("phi1") == "kim_m1.phi1" and cat[MID].qualified("alpha1") == "kim_m2.alpha1"
+    # eq 18's parameters are the baseline's own: a fit of the extension varies kim_m1.phi1 ...
+    assert cat[LDA].qualified("phi1") == "kim_m1.phi1"
+    # the movement clock that runs down at rest is a mechanism of its own, with eq 19's time course as its own
+    assert not issubclass(cat[MID], SwitchExtension) and cat[MID].suffix == "ExtMovement"
+    assert {p.name: p.neutral for p in cat[MID].parameters} == {"k": 0.0, "t50": None, "width": None,
+                                                               "trec": None, "v0": None}
+    assert cat[MID].targets == {"act.C1_shift": "shift"} and cat[MID].qualified("k") == f"{MID}.k"
+    t50, width = cat[MID].param("t50"), cat[MID].param("width")
+    assert (t50.default, t50.lower, t50.upper, width.default, width.lower) == (400.0, 0.0, 5000.0, 160.0, 1.0)
     assert not issubclass(cat[LBO], SwitchExtension) and cat[LBO].suffix == "ExtLengthening"
     assert {p.name: p.neutral for p in cat[LBO].parameters} == {"k": 0.0, "v0": None}
     assert cat[LBO].targets == {"ca.release_gain": "gain"} and cat[LBO].qualified("k") == "lengthening_below_optimum.k"
@@ -64,7 +70,7 @@ def _fixed(ct09, trace, **kw):
 
 @pytest.mark.parametrize("name, neutral, eq_off", [
     (LDA, {"phi1": 0.0, "phi2": 1.0, "phi3": 0.0, "phi4": 1.0}, dict(length_compensation=False)),
-    (MID, {"alpha1": 0.0}, {}),
+    (MID, {"k": 0.0}, {}),
     (LBO, {"k": 0.0}, {}),
     (FE, {"k": 0.0}, {}),
     (FD, {"k": 0.0}, {}),
@@ -100,8 +106,8 @@ def _eq20_only(**kw):
 
 
 def test_selected_equations_equal_the_seed_switches(ct09):
-    """Eq 18 selected by name is kim_excitation(length_compensation=True); eq 19 selected by name with eq 20 on in
-    KimAct is movement_compensation=True; each selected alone turns on its equation and nothing else."""
+    """Eq 18 selected by name is kim_excitation(length_compensation=True) and turns on nothing else; the movement
+    extension lowers A during movement without switching on the seed's eqs 19-20 (they stay KimAct's own)."""
     trace = _protocols()["lengthening_ramp"]
     lencomp = _fixed(ct09, trace, excitation=kim_excitation(length_compensation=True))
     lda = _fixed(ct09, trace, excitation=kim_excitation(length_compensation=False), extensions={LDA: {}})
@@ -113,19 +119,15 @@ def test_selected_equations_equal_the_seed_switches(ct09):
     given = _fixed(ct09, trace, extensions={LDA: phi})
     np.testing.assert_array_equal(given.force_N, _fixed(ct09.with_values(phi), trace).force_N)
 
-    movcomp = _fixed(ct09, trace, excitation=kim_excitation(movement_compensation=True), record=("force.F", "act.A"))
-    both = _fixed(ct09, trace, excitation=_eq20_only(), extensions={MID: {}}, record=("force.F", "act.A"))
-    np.testing.assert_array_equal(movcomp.force_N, both.force_N)
-    assert both.settings["model"]["act"]["movement_compensation"] is True
     base = _fixed(ct09, trace, record=("force.F", "act.alpha_t", "act.A"))
     mid = _fixed(ct09, trace, extensions={MID: {}}, record=("force.F", "act.alpha_t", "act.A"))
     lbo = _fixed(ct09, trace, excitation=_eq20_only(), record=("force.F", "act.alpha_t", "act.A"))
-    assert mid["act.alpha_t"].max() > 3.0 and np.all(lbo["act.alpha_t"] == 2.0)  # eq 19 only in mid
+    assert np.all(mid["act.alpha_t"] == 2.0) and np.all(lbo["act.alpha_t"] == 2.0)  # eq 19 in neither
     assert mid.settings["model"]["act"] == {"component": "KimActivation", "movement_compensation": False,
-                                            "eq19_movement_depression": True, "eq20_lengthening_divisor": False}
+                                            "eq19_movement_depression": False, "eq20_lengthening_divisor": False}
     moving = base.t_ms > 160.0
     assert np.all(mid.A[moving] <= base.A[moving] + 1e-15) and np.all(lbo.A[moving] <= base.A[moving] + 1e-15)
-    assert not np.array_equal(mid.A, lbo.A)
+    assert mid.A[moving].mean() < base.A[moving].mean() - 1e-3 and not np.array_equal(mid.A, lbo.A)
 
 
 @pytest.mark.parametrize("protocol", list(_protocols()))
@@ -239,3 +241,27 @@ def test_length_extensions_from_the_command_line(tmp_path):
               "--velocity-mm-s", "50", "--no-length-compensation"]
     assert main([*common, "--extension", f"{FE}:k=0.4,L=3", "--extension", f"{LDA}:phi1=0.02",
                  "--extension", MID, "--out", str(tmp_path / "a.h5")]) == 0
+
+
+def test_movement_depression_deepens_while_moving_and_recovers_at_rest(ct09):
+    """The movement clock counts time spent moving and runs down at rest with trec: after a 120 ms stretch and a
+    2 s hold, the force is back at the baseline's with trec = 100 ms and still depressed with trec = 1e5 ms (the
+    seed's clock, which never stops); an isometric trial is untouched whatever the values (the clock stays 0)."""
+    stretch = isokinetic_ramp(-12.0, -6.0, 50.0, 300.0, 2500.0, sample_ms=1.0)  # moves 300-420 ms, then held
+    spikes = constant_rate(20, 2400.0, start_ms=50.0)
+    late = slice(int(2200 / 0.5), int(2450 / 0.5))
+    during = slice(int(380 / 0.5), int(430 / 0.5))
+    base = simulate(ct09, spikes, stretch, 2500.0, record_dt_ms=0.5)
+    runs = {trec: simulate(ct09, spikes, stretch, 2500.0, record_dt_ms=0.5, record=("force.F", f"{MID}.c"),
+                           extensions={MID: {"k": 0.1, "t50": 50.0, "width": 50.0, "trec": trec, "v0": 2.0}})
+            for trec in (100.0, 1e5)}
+    for r in runs.values():  # depressed by the movement's end
+        assert r.force_N[during].mean() < 0.9 * base.force_N[during].mean()
+    assert runs[100.0].force_N[late].mean() == pytest.approx(base.force_N[late].mean(), rel=0.005)
+    assert runs[1e5].force_N[late].mean() < 0.8 * base.force_N[late].mean()
+    clock = runs[100.0][f"{MID}.c"]
+    assert clock.max() == pytest.approx(120.0, rel=0.05) and clock[late].max() < 1e-3  # ~1 ms/ms while moving
+    iso = simulate(ct09, spikes, -8.0, 2500.0, record_dt_ms=0.5, record=("force.F", f"{MID}.c"),
+                   extensions={MID: {"k": 0.5, "t50": 0.0, "width": 1.0, "trec": 20.0, "v0": 0.5}})
+    np.testing.assert_array_equal(iso.force_N, simulate(ct09, spikes, -8.0, 2500.0, record_dt_ms=0.5).force_N)
+    assert np.all(iso[f"{MID}.c"] == 0.0)
