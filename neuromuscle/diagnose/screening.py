@@ -29,8 +29,9 @@ its time constants at ``GRID_QUANTILES`` of their ranges (:func:`time_constant_s
 counts.  The fits still start from the defaults (they found 3.8 and 300 ms from there).  The best of several
 settings is a maximum over correlated score tests, so a null's screen rises a little; the screen only chooses what
 to fit, and the held-out rules of :mod:`.verdict` decide (suite: the five nulls stay "none").  Cost: 6 + the sum
-over candidates of settings x effect parameters simulations of the calibration trials (66 on a suite file), in one
-call to the worker pool; the moved runs and one reference run at ``COLUMN_DT_MS``.
+over candidates of settings x effect parameters simulations of the calibration trials (80 since stop 41, 17 of
+them the movement extension's), in one call to the worker pool; the moved runs and one reference run at
+``COLUMN_DT_MS``.
 """
 
 from __future__ import annotations
