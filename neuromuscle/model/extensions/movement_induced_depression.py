@@ -24,6 +24,7 @@ at stop 40.  Why the sensitivity and not the exponent: docs/extensions.md.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
@@ -41,9 +42,8 @@ _SRC = ("movement-induced depression: force depressed by a movement recovers at 
 
 
 def _eq19(name: str, as_name: str) -> Param:
-    """KimAct's eq 19 parameter ``name`` as this extension's ``as_name`` (same unit, bounds and default)."""
-    p = KimActivation.param(name)
-    return Param(as_name, p.unit, p.default, p.lower, p.upper, p.doc, p.source)
+    """KimAct's eq 19 parameter ``name`` as this extension's ``as_name`` (same unit, bounds, default, source)."""
+    return replace(KimActivation.param(name), name=as_name)
 
 
 def clock_rates(vm_mm_s: float, trec_ms: float, v0_mm_s: float) -> tuple[float, float]:
