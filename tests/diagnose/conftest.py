@@ -1,6 +1,13 @@
-"""Diagnosed datasets shared by the diagnosis tests (each diagnosis runs once per session)."""
+"""Diagnosed datasets shared by the diagnosis tests (each diagnosis runs once per session, also under
+pytest-xdist: test_diagnose_verdicts.py and test_diagnose_report.py share the null's on whichever runner they land)."""
 
 from __future__ import annotations
+
+import fcntl
+import json
+import os
+from pathlib import Path
+from typing import Callable
 
 import numpy as np
 import pytest
@@ -10,25 +17,51 @@ from neuromuscle.diagnose import run_diagnosis
 from neuromuscle.measured import write_measured
 
 
+def session_folder(tmp_path_factory, name: str, make: Callable[[Path], None]) -> Path:
+    """A folder that ``make`` fills once per test session: under pytest-xdist in the session's temporary root, which
+    every runner sees, by the first runner to ask while the others wait on a lock; a failed ``make`` leaves no
+    mark, so the next runner to ask tries again."""
+    if os.environ.get("PYTEST_XDIST_WORKER") is None:
+        folder = tmp_path_factory.mktemp(name)
+        make(folder)
+        return folder
+    folder = tmp_path_factory.getbasetemp().parent / name  # basetemp is <session root>/popen-gwN
+    with open(f"{folder}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (folder / ".made").exists():
+            folder.mkdir(exist_ok=True)
+            make(folder)
+            (folder / ".made").touch()
+    return folder
+
+
+def _diagnosed(tmp_path_factory, name: str, data) -> tuple[Path, Path, dict]:
+    """``data`` written to ``<name>.h5`` and diagnosed (2 workers) once per session: (file, report folder, the
+    content of its diagnosis.json)."""
+    def make(folder: Path) -> None:
+        run_diagnosis(write_measured(folder / f"{name}.h5", data()), folder / "report", workers=2)
+
+    folder = session_folder(tmp_path_factory, name, make)
+    return folder / f"{name}.h5", folder / "report", json.loads((folder / "report" / "diagnosis.json").read_text())
+
+
+def _null_data():
+    data = make_data(2)
+    data.trials["long50_short"].force = data.trials["long50_short"].force * 0.94
+    return data
+
+
 @pytest.fixture(scope="session")
 def null_files(tmp_path_factory):
     """A preparation without hidden effect, except one calibration long train whose force is 6 % low (a
     calibration misfit, ~4 % NRMSE against a ~1.4 % noise floor), and its diagnosis."""
-    root = tmp_path_factory.mktemp("null")
-    data = make_data(2)
-    data.trials["long50_short"].force = data.trials["long50_short"].force * 0.94
-    path = write_measured(root / "null.h5", data)
-    doc = run_diagnosis(path, root / "report", workers=2)
-    return path, root / "report", doc
+    return _diagnosed(tmp_path_factory, "null", _null_data)
 
 
 @pytest.fixture(scope="session")
 def fatigue_files(tmp_path_factory):
     """A preparation with the hidden fatigue-like effect (count-based release weights, strength 0.7: ~5 % NRMSE on long trains), and its diagnosis."""
-    root = tmp_path_factory.mktemp("fatigue")
-    path = write_measured(root / "fatigue.h5", make_data(3, fatigue=0.7))
-    doc = run_diagnosis(path, root / "report", workers=2)
-    return path, root / "report", doc
+    return _diagnosed(tmp_path_factory, "fatigue", lambda: make_data(3, fatigue=0.7))
 
 
 @pytest.fixture()

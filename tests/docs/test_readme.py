@@ -93,10 +93,14 @@ def _fresh_folder(tmp_path_factory) -> Path:
 
 
 @pytest.fixture(scope="module")
-def readme_runs(tmp_path_factory) -> dict[Block, subprocess.CompletedProcess]:
-    """Each block that is not skipped, run in README order in one fresh folder."""
-    folder = _fresh_folder(tmp_path_factory)
-    return {b: _run_block(b, folder) for b in BLOCKS if not b.skipped}
+def readme_folder(tmp_path_factory) -> Path:
+    return _fresh_folder(tmp_path_factory)
+
+
+@pytest.fixture(scope="module")
+def readme_runs(readme_folder) -> dict[Block, subprocess.CompletedProcess]:
+    """Each block that is not skipped, run in README order in one fresh folder (``readme_folder``)."""
+    return {b: _run_block(b, readme_folder) for b in BLOCKS if not b.skipped}
 
 
 @pytest.mark.parametrize("block", BLOCKS, ids=[b.name for b in BLOCKS])
@@ -107,6 +111,34 @@ def test_readme_block_runs_as_written(block, readme_runs):
     assert out.returncode == 0, f"{block.name} failed:\n{block.code}\n--- stdout\n{out.stdout}\n--- stderr\n{out.stderr}"
     if block.language == "hoc":
         assert HOC_DONE in out.stdout, out.stdout + out.stderr
+
+
+def test_the_hoc_route_makes_the_force_python_makes(readme_folder, readme_runs, ct09):
+    """In the folder where the README ran ``nrnivmodl mod`` (plain nrnivmodl, not the package's cache), NEURON
+    builds the README's hoc unit; its twitch peak at -8 mm is ``simulate``'s within 0.2 %.  (Until stop 42 a test of
+    tests/mod compiled the mod folder once more for this: ~70 s of CPU.)"""
+    assert readme_runs, "the README's blocks ran"
+    hoc = ("create muscle\nobjref len, ca, act, frc\n"
+           "muscle len = new MuscleLength(0.5)\nmuscle ca = new KimCa(0.5)\n"
+           "muscle act = new KimAct(0.5)\nmuscle frc = new KimForce(0.5)\n"
+           "setpointer ca.atil, act.atil\nsetpointer ca.xm, len.xm\nsetpointer act.caspt, ca.CaSPT\n"
+           "setpointer act.T0, ca.T0\nsetpointer act.phi1, ca.phi1\nsetpointer act.phi2, ca.phi2\n"
+           "setpointer act.xopt, ca.xopt\n"
+           "setpointer act.xm, len.xm\nsetpointer act.vm, len.vm\nsetpointer frc.act, act.A\n"
+           "setpointer frc.xm, len.xm\nobjref nc, nil\nnc = new NetCon(nil, ca)\nnc.weight = 1\n"
+           "objref fih\nfih = new FInitializeHandler(\"nc.event(100)\")\n"
+           "len.xm = -8\ndt = 0.025\nload_file(\"stdrun.hoc\")\ntstop = 300\nfinitialize()\n"
+           "objref fv\nfv = new Vector()\nfv.record(&frc.F, 0.1)\nfinitialize()\ncontinuerun(300)\n"
+           "printf(\"PEAK %g\\n\", fv.max())\n")
+    (readme_folder / "peak.hoc").write_text(hoc)
+    code = "from neuron import h; h.load_file('peak.hoc')"
+    out = subprocess.run([sys.executable, "-c", code], cwd=readme_folder, env=_env(), capture_output=True,
+                         text=True, timeout=TIMEOUT_S)
+    peak = [float(ln.split()[1]) for ln in out.stdout.splitlines() if ln.startswith("PEAK")]
+    from neuromuscle import simulate
+
+    expected = simulate(ct09, [100.0], -8.0, 300.0).force_N.max()
+    assert peak and abs(peak[0] / expected - 1) < 0.002, out.stdout + out.stderr
 
 
 def test_only_the_setup_commands_are_skipped():
