@@ -14,7 +14,7 @@ import pytest
 
 from diagnose_datasets import make_data
 from neuromuscle.diagnose import run_diagnosis
-from neuromuscle.measured import write_measured
+from neuromuscle.measured import MeasuredData, write_measured
 
 
 def session_folder(tmp_path_factory, name: str, make: Callable[[Path], None]) -> Path:
@@ -35,7 +35,7 @@ def session_folder(tmp_path_factory, name: str, make: Callable[[Path], None]) ->
     return folder
 
 
-def _diagnosed(tmp_path_factory, name: str, data) -> tuple[Path, Path, dict]:
+def _diagnosed(tmp_path_factory, name: str, data: Callable[[], MeasuredData]) -> tuple[Path, Path, dict]:
     """``data`` written to ``<name>.h5`` and diagnosed (2 workers) once per session: (file, report folder, the
     content of its diagnosis.json)."""
     def make(folder: Path) -> None:
