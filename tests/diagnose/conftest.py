@@ -6,6 +6,7 @@ from __future__ import annotations
 import fcntl
 import json
 import os
+import shutil
 from pathlib import Path
 from typing import Callable
 
@@ -19,8 +20,9 @@ from neuromuscle.measured import MeasuredData, write_measured
 
 def session_folder(tmp_path_factory, name: str, make: Callable[[Path], None]) -> Path:
     """A folder that ``make`` fills once per test session: under pytest-xdist in the session's temporary root, which
-    every runner sees, by the first runner to ask while the others wait on a lock; a failed ``make`` leaves no
-    mark, so the next runner to ask tries again."""
+    every runner sees, by the first runner to ask while the others wait on a lock.  A failed ``make`` leaves no
+    mark, and the next runner to ask clears what it left and tries again (a half-written report would otherwise
+    make the retry meet "refusing to overwrite" instead of the first failure's cause)."""
     if os.environ.get("PYTEST_XDIST_WORKER") is None:
         folder = tmp_path_factory.mktemp(name)
         make(folder)
@@ -29,7 +31,8 @@ def session_folder(tmp_path_factory, name: str, make: Callable[[Path], None]) ->
     with open(f"{folder}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         if not (folder / ".made").exists():
-            folder.mkdir(exist_ok=True)
+            shutil.rmtree(folder, ignore_errors=True)
+            folder.mkdir()
             make(folder)
             (folder / ".made").touch()
     return folder
