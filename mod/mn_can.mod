@@ -1,3 +1,5 @@
+TITLE Motoneuron N-type calcium current (soma)
+
 COMMENT
 Motoneuron N-type (high-threshold) calcium current, soma: the spike-triggered Ca entry that activates the
 afterhyperpolarisation's K(Ca) current (mn_kca through mn_cadyn).  i = gbar m^2 h (v - erev).
@@ -6,7 +8,7 @@ Kinetics: Booth, Rinzel & Kiehn 1997 (J Neurophysiol 78:3371-3385, I_Ca-N, Table
 (ModelDB 266732) and Kim et al. 2020 (ModelDB 267184), CaN.mod:
   m_inf = 1 / (1 + exp(-(v+25)/5)), tau_m = 15 ms;  h_inf = 1 / (1 + exp((v+43)/5)), tau_h = 50 ms
 Reversal: a fixed erev (mV; Booth et al. use E_Ca = 80 mV) instead of the published Nernst-minus-70 mV.
-Written here anew.  Units: mV, ms, S/cm2.
+Written here anew (in mn_can.inc, shared with mn_soma).  Units: mV, ms, S/cm2.
 ENDCOMMENT
 
 NEURON {
@@ -41,7 +43,7 @@ STATE { m h }
 
 BREAKPOINT {
     SOLVE states METHOD cnexp
-    g = gbar * m * m * h
+    g = can_g(gbar, m, h)
     ica = g * (v - erev)
 }
 
@@ -58,8 +60,8 @@ DERIVATIVE states {
 }
 
 PROCEDURE rates(v (mV)) {
-    UNITSOFF
-    minf = 1 / (1 + exp(-(v + 25) / 5))
-    hinf = 1 / (1 + exp((v + 43) / 5))
-    UNITSON
+    minf = can_minf(v)
+    hinf = can_hinf(v)
 }
+
+INCLUDE "mn_can.inc"

@@ -1,10 +1,12 @@
+TITLE Motoneuron delayed-rectifier potassium current (soma)
+
 COMMENT
 Motoneuron delayed-rectifier potassium current (spike repolarisation), soma: i = gbar n^4 (v - ek).
 
 Kinetics: Booth, Rinzel & Kiehn 1997 (J Neurophysiol 78:3371-3385, Table 1) as shifted by Kim 2017 (ModelDB
 266732) and Kim et al. 2020 (ModelDB 267184), KDr.mod:
   n_inf = 1 / (1 + exp(-(v+31)/15)),  tau_n = 5 / (exp((v+50)/40) + exp(-(v+50)/50))   (ms, v in mV)
-Written here anew.  Units: mV, ms, S/cm2.
+Written here anew (in mn_kdr.inc, shared with mn_soma).  Units: mV, ms, S/cm2.
 ENDCOMMENT
 
 NEURON {
@@ -37,7 +39,7 @@ STATE { n }
 
 BREAKPOINT {
     SOLVE states METHOD cnexp
-    g = gbar * n * n * n * n
+    g = kdr_g(gbar, n)
     ik = g * (v - ek)
 }
 
@@ -52,8 +54,7 @@ DERIVATIVE states {
 }
 
 PROCEDURE rates(v (mV)) {
-    UNITSOFF
-    ninf = 1 / (1 + exp(-(v + 31) / 15))
-    ntau = 5 / (exp((v + 50) / 40) + exp(-(v + 50) / 50))
-    UNITSON
+    kdr_rates(v)
 }
+
+INCLUDE "mn_kdr.inc"

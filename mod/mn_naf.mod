@@ -1,3 +1,5 @@
+TITLE Motoneuron fast sodium current (soma)
+
 COMMENT
 Motoneuron fast sodium current (spike upstroke), soma: i = gbar m^3 h (v - ena).
 
@@ -5,7 +7,8 @@ Kinetics: Booth, Rinzel & Kiehn 1997 (J Neurophysiol 78:3371-3385, two-compartme
 form used by Kim 2017 (J Neurophysiol 118:3246, ModelDB 266732) and Kim et al. 2020 (ModelDB 267184), Naf.mod:
   alpha_m = 0.4 (v+49) / (1 - exp(-(v+49)/5)),  beta_m = 0.4 (v+25) / (exp((v+25)/5) - 1)   (1/ms, v in mV)
   h_inf = 1 / (1 + exp((v+58)/7)),  tau_h = 30 / (exp((v+60)/15) + exp(-(v+60)/16))          (ms)
-Written here anew; the removable singularities of alpha_m, beta_m are handled by vtrap.  Units: mV, ms, S/cm2.
+Written here anew (in mn_naf.inc, shared with mn_soma); the removable singularities of alpha_m, beta_m are handled
+by vtrap.  Units: mV, ms, S/cm2.
 ENDCOMMENT
 
 NEURON {
@@ -40,7 +43,7 @@ STATE { m h }
 
 BREAKPOINT {
     SOLVE states METHOD cnexp
-    g = gbar * m * m * m * h
+    g = naf_g(gbar, m, h)
     ina = g * (v - ena)
 }
 
@@ -56,22 +59,8 @@ DERIVATIVE states {
     h' = (hinf - h) / htau
 }
 
-PROCEDURE rates(v (mV)) { LOCAL a, b
-    UNITSOFF
-    a = 0.4 * vtrap(v + 49, 5)
-    b = 0.4 * vtrap(-(v + 25), 5)
-    mtau = 1 / (a + b)
-    minf = a / (a + b)
-    hinf = 1 / (1 + exp((v + 58) / 7))
-    htau = 30 / (exp((v + 60) / 15) + exp(-(v + 60) / 16))
-    UNITSON
+PROCEDURE rates(v (mV)) {
+    naf_rates(v)
 }
 
-FUNCTION vtrap(x, y) {
-    : x / (1 - exp(-x/y)), continuous through x = 0 (limit y)
-    if (fabs(x / y) < 1e-6) {
-        vtrap = y * (1 + x / y / 2)
-    } else {
-        vtrap = x / (1 - exp(-x / y))
-    }
-}
+INCLUDE "mn_naf.inc"

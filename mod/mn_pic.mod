@@ -1,5 +1,8 @@
+TITLE Motoneuron dendritic L-type calcium PIC as a nonspecific current (the pool's fast path)
+
 COMMENT
-The dendritic L-type calcium PIC of mn_cal (same equations, parameters and sources; see mn_cal.mod) as a
+The dendritic L-type calcium PIC of mn_cal (the same equations, in mn_cal.inc, parameters and sources; see
+mn_cal.mod) as a
 NONSPECIFIC current, for the pool's fast path: its calcium enters no pool, so no calcium ion is needed.
   i = gbar m (v - erev),  m' = (m_inf - m) / mtau,  m_inf = 1 / (1 + exp(-(v - vhalf)/slope))
 
@@ -12,6 +15,8 @@ ENDCOMMENT
 NEURON {
     SUFFIX mn_pic
     THREADSAFE
+    : 1 while NEURON integrates with CVODE (set at every finitialize by the package; from hoc: variable_step_<name> = 1)
+    GLOBAL variable_step
     NONSPECIFIC_CURRENT i
     RANGE gbar, g, erev, vhalf, slope, mtau, mfac, dtseen
 }
@@ -28,6 +33,7 @@ PARAMETER {
     vhalf = -43 (mV)
     slope = 6 (mV)
     mtau = 60 (ms)
+    variable_step = 0 (1)
 }
 
 ASSIGNED {
@@ -45,10 +51,8 @@ ASSIGNED {
 
 STATE { m }
 
-INCLUDE "cvode_on.inc"
-
 INITIAL {
-    m = 1 / (1 + exp(-(v - vhalf) / slope))
+    m = cal_minf(v)
     dtseen = -1
     zeroed = 0
 }
@@ -62,9 +66,9 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
-    if (cvode_on()) {
+    if (variable_step) {
         zeroed = 0
-        am = 1 / (1 + exp(-(v - vhalf) / slope)) / mtau
+        am = cal_minf(v) / mtau
         bm = 1 / mtau
     } else {
         if (dt != dtseen) {
@@ -85,5 +89,7 @@ DERIVATIVE states {
 
 PROCEDURE logistic(x (1)) {
     TABLE sinf FROM -60 TO 60 WITH 12000
-    sinf = 1 / (1 + exp(-x))
+    sinf = cal_logistic(x)
 }
+
+INCLUDE "mn_cal.inc"

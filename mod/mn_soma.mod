@@ -1,6 +1,9 @@
+TITLE The motoneuron soma's five channels in one mechanism (the pool's fast path)
+
 COMMENT
 The motoneuron soma's five mechanisms in one (the pool's fast path): mn_naf, mn_kdr, mn_can, mn_cadyn and mn_kca
-with the same equations, parameters and sources (see each of those files), as one NONSPECIFIC current
+with the same equations (INCLUDEd from their .inc files), parameters and sources (see each of those files), as one
+NONSPECIFIC current
   i = gnaf m^3 h (v - ena) + (gkdr n^4 + gkca cai/(cai + kd)) (v - ek) + gcan p^2 q (v - eca)
   cai' = -(10000) ica / (2 F depth) + (cainf - cai) / taur,   ica = gcan p^2 q (v - eca)
 where p, q are mn_can's m, h.  The submembrane calcium is this mechanism's own state (no ion is shared: only the
@@ -15,6 +18,8 @@ ENDCOMMENT
 NEURON {
     SUFFIX mn_soma
     THREADSAFE
+    : 1 while NEURON integrates with CVODE (set at every finitialize by the package; from hoc: variable_step_<name> = 1)
+    GLOBAL variable_step
     NONSPECIFIC_CURRENT i
     RANGE gnaf, gkdr, gcan, gkca, ena, ek, eca, ptau, qtau, kd, depth, taur, cainf, ica, inaf, ik
     RANGE pfac, qfac, cfac, dtseen
@@ -43,6 +48,7 @@ PARAMETER {
     depth = 1 (um)
     taur = 40 (ms)
     cainf = 0 (mM)
+    variable_step = 0 (1)
 }
 
 ASSIGNED {
@@ -78,8 +84,6 @@ ASSIGNED {
 
 STATE { m h n p q cai (mM) }
 
-INCLUDE "cvode_on.inc"
-
 INITIAL {
     exact_rates(v)
     m = minf
@@ -96,9 +100,9 @@ BREAKPOINT {
     SOLVE states METHOD euler
     : i is linear in v: NEURON takes di/dv = gtot instead of a second evaluation
     CONDUCTANCE gtot
-    gna = gnaf * m * m * m * h
-    gk = gkdr * n * n * n * n + gkca * cai / (cai + kd)
-    gca = gcan * p * p * q
+    gna = naf_g(gnaf, m, h)
+    gk = kdr_g(gkdr, n) + kca_g(gkca, cai)
+    gca = can_g(gcan, p, q)
     gtot = gna + gk + gca
     inaf = gna * (v - ena)
     ik = gk * (v - ek)
@@ -107,7 +111,7 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
-    if (cvode_on()) {
+    if (variable_step) {
         zeroed = 0
         exact_rates(v)
         am = minf / mtau  bm = 1 / mtau
@@ -115,7 +119,7 @@ DERIVATIVE states {
         an = ninf / ntau  bn = 1 / ntau
         ap = pinf / ptau  bp = 1 / ptau
         aq = qinf / qtau  bq = 1 / qtau
-        ac = -(10000) * ica / (2 * FARADAY * depth) + cainf / taur
+        ac = ca_entry(ica) + cainf / taur
         bc = 1 / taur
     } else {
         if (dt != dtseen) {
@@ -132,7 +136,7 @@ DERIVATIVE states {
         p = p + pfac * (pinf - p)
         q = q + qfac * (qinf - q)
         : cnexp of cai' = ac - cai/taur: cai <- cai + (1 - exp(-dt/taur)) (ac taur - cai)
-        cai = cai + cfac * (taur * (-(10000) * ica / (2 * FARADAY * depth)) + cainf - cai)
+        cai = cai + cfac * (taur * ca_entry(ica) + cainf - cai)
         if (zeroed == 0) {
             : the states are already advanced: nothing is left for METHOD euler to add
             am = 0  bm = 0  ah = 0  bh = 0  an = 0  bn = 0  ap = 0  bp = 0  aq = 0  bq = 0  ac = 0  bc = 0
@@ -156,28 +160,15 @@ PROCEDURE tabled(v (mV)) {
     nfac = 1 - exp(-dt / ntau)
 }
 
-PROCEDURE exact_rates(v (mV)) { LOCAL a, b
-    UNITSOFF
-    : mn_naf
-    a = 0.4 * vtrap(v + 49, 5)
-    b = 0.4 * vtrap(-(v + 25), 5)
-    mtau = 1 / (a + b)
-    minf = a / (a + b)
-    hinf = 1 / (1 + exp((v + 58) / 7))
-    htau = 30 / (exp((v + 60) / 15) + exp(-(v + 60) / 16))
-    : mn_kdr
-    ninf = 1 / (1 + exp(-(v + 31) / 15))
-    ntau = 5 / (exp((v + 50) / 40) + exp(-(v + 50) / 50))
-    : mn_can
-    pinf = 1 / (1 + exp(-(v + 25) / 5))
-    qinf = 1 / (1 + exp((v + 43) / 5))
-    UNITSON
+PROCEDURE exact_rates(v (mV)) {
+    naf_rates(v)
+    kdr_rates(v)
+    pinf = can_minf(v)
+    qinf = can_hinf(v)
 }
 
-FUNCTION vtrap(x, y) {
-    if (fabs(x / y) < 1e-6) {
-        vtrap = y * (1 + x / y / 2)
-    } else {
-        vtrap = x / (1 - exp(-x / y))
-    }
-}
+INCLUDE "mn_naf.inc"
+INCLUDE "mn_kdr.inc"
+INCLUDE "mn_can.inc"
+INCLUDE "mn_cadyn.inc"
+INCLUDE "mn_kca.inc"

@@ -9,12 +9,13 @@ Units as in the mechanisms: ms, M, mm, N, mm/s.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Mapping, Sequence
+from typing import Callable, Mapping
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
 from .analysis.module3 import ce_velocity, floored_capacity, force_length
+from .model.extensions.twin import Observables, StateModulation
 from .protocols.lengths import LengthTrace
 from .parameters import ParameterSet
 from .parameters.specs import registry
@@ -25,8 +26,8 @@ _ATOL = np.array([1e-12, 1e-11, 1e-14, 1e-13, 1e-14, 1e-9, 1e-13])
 #: in t; the SE extension Xm - XCE (eq 9) is u + Xm(t) - Xm(0), with Xm(t) the length NEURON plays (linear between
 #: samples), so the muscle's velocity enters through Xm itself, never a sampled slope.  At a constant length u is
 #: the extension exactly, which resolves the tiny forces at rest that an absolute CE length (~ -8 mm) would hide
-#: below the tolerance.  (Until stop 33 the state was the extension itself, driven by Xm's slope: a jump in the
-#: right-hand side at every 0.1 ms sample of a random length, which cost Radau ~16 steps per sample.)
+#: below the tolerance.  (With the extension itself as the state, driven by Xm's slope, the right-hand side would
+#: jump at every 0.1 ms sample of a random length, which costs Radau ~16 steps per sample.)
 _SE_STATE = 6
 
 
@@ -69,28 +70,6 @@ def activation(atil: float, t: float, x: float, v: float, p: Mapping[str, float]
         d = (1.0 + p["beta"] * _phi(x, p)) * (1.0 + p["gamma"] * v)
         A = A / d if d > 0.0 else 0.0
     return max(A, 1e-3) if eq19 else A
-
-
-@dataclass(frozen=True)
-class Observables:
-    """What an extension's twin reads at time t: activation A (1), length Xm (mm), the played velocity Vm (mm/s),
-    the series-elastic force Fse (N, eq 9) and the parameter set."""
-
-    A: float
-    xm_mm: float
-    vm_mm_s: float
-    fse_N: float
-    params: Mapping[str, float]
-
-
-@dataclass(frozen=True)
-class StateModulation:
-    """An extension's twin with memory: extra states integrated with Modules 1-3 from ``y0``; ``rhs(t, y,
-    obs)`` gives their derivatives (per ms), ``ports[name](t, y, obs)`` the value of a port of NEUTRAL_PORTS."""
-
-    y0: tuple[float, ...]
-    rhs: Callable[[float, np.ndarray, Observables], Sequence[float]]
-    ports: Mapping[str, Callable[[float, np.ndarray, Observables], float]]
 
 
 #: The modulation ports of the mechanisms and their neutral values (an extension's twin supplies functions of t).
@@ -144,7 +123,8 @@ def _rhs(t: float, y: np.ndarray, p: Mapping[str, float], spikes: np.ndarray, tr
 
 
 def _initial_state(p: Mapping[str, float], trace: LengthTrace, kind: str, movement: tuple[bool, bool]) -> np.ndarray:
-    """y0: seed 001's published state (all SR calcium free, nothing bound, no force), or the resting steady
+    """y0: the published initial state of Kim et al. 2015 (all SR calcium free, nothing bound, no force), or the
+    resting steady
     state: no sarcoplasmic calcium, the SR's CaSR0 shared with calsequestrin (eq 2 at rest), Atil at its steady
     state for [CaSPT] = 0 (eq 8), and the SE carrying the CE's force at the initial length (eqs 9-12)."""
     if kind == "published":

@@ -10,7 +10,7 @@ A component declares everything the rest of the package needs to know about its 
 * ``states``: its STATEs with the CVODE atolscale that suits their magnitude.
 
 ``instantiate(seg, values)`` builds the point process into NEURON and ``destroy()`` drops it.  A unit is made by
-wiring components' ports (``neuromuscle.model.unit``), never by if/elif over model names, so a new model
+wiring components' ports (``neuromuscle.sim.unit``), never by if/elif over model names, so a new model
 extension is one mod file plus one component file.
 """
 
@@ -68,13 +68,15 @@ class Port:
     """A POINTER of the mechanism.  ``source`` is the default ``"slot.variable"`` it reads; ``neutral`` names the
     component's own RANGE variable it points at when nothing else is wired (a modulation port left unused).
     ``optional``: read ``source`` when the unit has it, else ``neutral`` (information another component may or may
-    not give, e.g. KimAct's eq 20 switch within a fixed step; never counts as a modulation)."""
+    not give, e.g. KimAct's eq 20 switch within a fixed step; never counts as a modulation); ``enables`` names the
+    mechanism's RANGE switch set to 1 when an optional port reads its source (the mechanism reads it only then)."""
 
     name: str
     unit: str
     source: str | None = None
     neutral: str | None = None
     optional: bool = False
+    enables: str | None = None
 
 
 class Component:
@@ -83,7 +85,7 @@ class Component:
     suffix: ClassVar[str]
     namespace: ClassVar[str]
     doc: ClassVar[str] = ""
-    module: ClassVar[int] = 0  # seed 001 module (1-3) for the Kim mechanisms, 0 otherwise
+    module: ClassVar[int] = 0  # module (1-3) of Kim et al. 2015 for the Kim mechanisms, 0 otherwise
     parameters: ClassVar[tuple[Param, ...]] = ()
     reads: ClassVar[tuple[Port, ...]] = ()
     exposes: ClassVar[Mapping[str, str]] = {}

@@ -1,8 +1,8 @@
-"""Hatze's excitation and contraction models of seed 000 as components (mod/hatze_*.mod).
+"""Hatze's excitation and the triceps surae contraction of van Zandwijk et al. 1998 as components (mod/hatze_*.mod).
 
-Time inside these models is in seconds, angles in rad, moments in N m (shared/spec/hatze_model.md).  Defaults:
+Time inside these models is in seconds, angles in rad, moments in N m (docs/reference/hatze.md).  Defaults:
 Table 2 (excitation of subject 3), Table 4 (active state), Table 1 subject 3 (contraction).  Bounds: a decade
-either side of the tables (the seed's 95 % intervals lie well inside).
+either side of the tables (the paper's 95 % intervals lie well inside).
 """
 
 from __future__ import annotations
@@ -11,9 +11,9 @@ from typing import Any
 
 from .component import Component, Param, Port, State
 
-_T2 = "a decade either side of seed 000 Table 2 (its 95 % intervals lie inside)"
-_T4 = "seed 000 Table 4 and eq 9 (q rises monotonically from q0 to 1)"
-_T1 = "a decade either side of seed 000 Table 1"
+_T2 = "a decade either side of van Zandwijk et al. 1998 Table 2 (its 95 % intervals lie inside)"
+_T4 = "van Zandwijk et al. 1998 Table 4 and eq 9 (q rises monotonically from q0 to 1)"
+_T1 = "a decade either side of van Zandwijk et al. 1998 Table 1"
 
 
 def _decade(name: str, unit: str, default: float, doc: str, source: str) -> Param:
@@ -29,7 +29,8 @@ _ACTIVE_STATE = (
 
 
 class HatzeExcitation(Component):
-    """HatzeExc: seed 000 eqs 6-9, spikes -> beta (s^2) -> gamma (s^4) -> active state A = q (1).  Receives spikes
+    """HatzeExc: eqs 6-9 of van Zandwijk et al. 1998, spikes -> beta (s^2) -> gamma (s^4) -> active state
+    A = q (1).  Receives spikes
     (1 ms half-sine pulses; pulses may not overlap).  ``theta``: an ExcitationTheta (Table 2 if None)."""
 
     suffix = "HatzeExc"
@@ -50,7 +51,7 @@ class HatzeExcitation(Component):
 
     def __init__(self, theta: Any = None, **overrides: float) -> None:
         if theta is None:
-            from ..hatze.parameters import load_theta
+            from .hatze_parameters import load_theta
 
             theta = load_theta()
         super().__init__(**{n: float(getattr(theta, n)) for n in ("theta1", "theta2", "theta3", "theta4",
@@ -58,14 +59,16 @@ class HatzeExcitation(Component):
 
 
 class HatzeTrend(Component):
-    """HatzeTrend: seed 000 eq 10, a first-order trend of gamma driven by the rate nu (= rate / 100 Hz, RANGE:
+    """HatzeTrend: eq 10 of van Zandwijk et al. 1998, a first-order trend of gamma driven by the rate nu
+    (= rate / 100 Hz, RANGE:
     set or Vector.play) instead of spikes; exposes A = q (eq 9)."""
 
     suffix = "HatzeTrend"
     namespace = "hatze_trend"
     parameters = (
-        _decade("m", "1/s", 7.94, "trend rate constant", "a decade either side of seed 000 Table 3"),
-        _decade("c", "s^4", 3.91e-14, "trend gain on gamma's raw scale", "a decade either side of seed 000 "
+        _decade("m", "1/s", 7.94, "trend rate constant", "a decade either side of van Zandwijk et al. 1998 Table 3"),
+        _decade("c", "s^4", 3.91e-14, "trend gain on gamma's raw scale", "a decade either side of van Zandwijk "
+                "et al. 1998 "
                 "Table 3 (converted to gamma's scale)"),
         _decade("theta5", "1/s^4", 4.57e14, "eq 9 scale of gamma", _T2),
         *_ACTIVE_STATE,
@@ -75,7 +78,8 @@ class HatzeTrend(Component):
 
 
 class HatzeMTC(Component):
-    """HatzeMTC: the angular triceps surae muscle-tendon complex of seed 000 section 2.1.1.  Output M (N m);
+    """HatzeMTC: the angular triceps surae muscle-tendon complex of van Zandwijk et al. 1998, section 2.1.1.
+    Output M (N m);
     input phi_mtc_offset (rad).  ``subject``: a Table 1 subject ("1".."4")."""
 
     suffix = "HatzeMTC"
@@ -88,7 +92,7 @@ class HatzeMTC(Component):
         _decade("a_rel", "1", 0.21, "Hill constant", _T1),
         _decade("b_rel", "1/s", 1.55, "Hill constant", _T1),
         _decade("w", "1", 0.56, "width of the moment-angle parabola", _T1),
-        Param("k_pee", "N*m/rad^2", 0.0, 0.0, 3770.0, "PEE stiffness (0 in the seed)", _T1),
+        Param("k_pee", "N*m/rad^2", 0.0, 0.0, 3770.0, "PEE stiffness (0 in the paper)", _T1),
         Param("phi_pee0_rel", "1", 1.0, 0.5, 2.0, "PEE slack angle / phi_ce_opt", _T1),
     )
     reads = (Port("act", "1", "act.A"), Port("xi_exc", "1", None, "xi_sink"))
@@ -96,7 +100,7 @@ class HatzeMTC(Component):
     states = (State("phi_ce", "rad", 1e-3),)
 
     def __init__(self, subject: str | int = "3", **overrides: float) -> None:
-        from ..hatze.parameters import load_subject
+        from .hatze_parameters import load_subject
 
         sub = load_subject(subject)
         table = {"k_see": sub.k_see, "phi_ce_opt": sub.phi_ce_opt, "Mmax": sub.m_max, "a_rel": sub.a_rel,

@@ -1,10 +1,10 @@
-"""The three modules of Kim, Sandercock & Heckman 2015 (seed 001) as components (mod/kim_m*.mod).
+"""The three modules of Kim, Sandercock & Heckman 2015 as components (mod/kim_m*.mod).
 
 Units: ms, M, mm, N; velocities mm/s.  Defaults are Table 1's CT09 set.  The physiological range of each
 parameter ("bounds") is what a fit may explore and what a parameter file may hold: rate constants, pool sizes and
 release/uptake capacities a decade either side of Table 1 (the spread between fast and slow mammalian fibres in
-the sources the seed draws on, Westerblad & Allen 1994 and Baylor & Hollingworth 2003, is within it); curve
-shapes within the ranges over which the seed's equations stay monotone and well posed.
+the sources the paper draws on, Westerblad & Allen 1994 and Baylor & Hollingworth 2003, is within it); curve
+shapes within the ranges over which the paper's equations stay monotone and well posed.
 """
 
 from __future__ import annotations
@@ -16,11 +16,11 @@ import numpy as np
 from ..errors import InputError
 from .component import Component, Param, Port, State
 
-_T1 = "a decade either side of seed 001 Table 1 (CT09/CT95)"
-_SHAPE = "seed 001 eq 8: keeps the activation curve and its time-constant bell well posed"
-_EQ18 = "seed 001 eq 18: lines through phi(Xm) between 0 and 3 over the muscle's working range"
-_EQ19 = "seed 001 eqs 19-20 (CT09/CT95 values and the authors' code)"
-_M3 = "seed 001 eqs 9-12: cat soleus and medial gastrocnemius motor units to whole muscles"
+_T1 = "a decade either side of Table 1 of Kim et al. 2015 (CT09/CT95)"
+_SHAPE = "Kim et al. 2015 eq 8: keeps the activation curve and its time-constant bell well posed"
+_EQ18 = "Kim et al. 2015 eq 18: lines through phi(Xm) between 0 and 3 over the muscle's working range"
+_EQ19 = "Kim et al. 2015 eqs 19-20 (CT09/CT95 values and the authors' code)"
+_M3 = "Kim et al. 2015 eqs 9-12: cat soleus and medial gastrocnemius motor units to whole muscles"
 
 
 def _rate(name: str, unit: str, default: float, doc: str) -> Param:
@@ -84,7 +84,7 @@ class KimCalcium(Component):
 
 class KimActivation(Component):
     """Module 2 (KimAct): troponin-bound Ca2+ -> activation A, eq 8, and the movement compensations eqs 19-20,
-    each behind its own switch (``movement_depression``: eq 19; ``lengthening_divisor``: eq 20; the seed's
+    each behind its own switch (``movement_depression``: eq 19; ``lengthening_divisor``: eq 20; the paper's
     movement compensation is both).  Reads T0, phi1, phi2 and xopt from KimCa."""
 
     suffix = "KimAct"
@@ -124,7 +124,7 @@ class KimActivation(Component):
 
     @property
     def movement_compensation(self) -> bool:
-        """The seed's movement compensation: eqs 19 and 20 both on."""
+        """The paper's movement compensation: eqs 19 and 20 both on."""
         return self.movement_depression and self.lengthening_divisor
 
     @property
@@ -168,8 +168,8 @@ class KimForce(Component):
         Port("act", "1", "act.A"),
         Port("xm", "mm", "length.xm"),
         Port("force_offset", "N", None, "zero"),
-        Port("asw", "1", "act.asw", "zero", optional=True),
-        Port("ssw", "1", "act.ssw", "zero", optional=True),
+        Port("asw", "1", "act.asw", "zero", optional=True, enables="use_split"),
+        Port("ssw", "1", "act.ssw", "zero", optional=True, enables="use_split"),
     )
     exposes = {"F": "N", "Fse": "N", "Fc": "N", "vce": "mm/s", "nasym": "1", "P0": "N", "KSE": "1/mm", "xce": "mm",
                "x0": "mm", "nsub": "1", "nsplit": "1"}

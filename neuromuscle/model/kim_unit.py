@@ -1,4 +1,4 @@
-"""Kim Modules 1-3 as one mechanism (mod/kim_unit.mod, KimUnit): the three-mechanism unit's numbers at lower cost.
+"""Kim Modules 1-3 as one mechanism (mod/KimUnit.mod, KimUnit): the three-mechanism unit's numbers at lower cost.
 
     unit = MuscleUnit(p, excitation=kim_fused())                         # the fused unit (no contraction slot)
     unit = MuscleUnit(p, excitation=kim_fused(substeps=4))               # muscle updated every 4th membrane step
@@ -13,7 +13,7 @@ from __future__ import annotations
 from typing import Any, Mapping
 
 from ..errors import InputError
-from .component import Component, Param, Port, State
+from .component import Component, Param, Port
 from .kim import KimActivation, KimCalcium, KimForce
 
 _MODULES = (KimCalcium, KimActivation, KimForce)

@@ -1,4 +1,4 @@
-"""The muscle length input (mod/muscle_length.mod) as a component: xm (mm) and vm (mm/s), played or set."""
+"""The muscle length input (mod/MuscleLength.mod) as a component: xm (mm) and vm (mm/s), played or set."""
 
 from __future__ import annotations
 

@@ -7,8 +7,14 @@ step and an edited mod file is recompiled.  A hoc user can equally run ``nrnivmo
 from an ``x86_64/`` folder NEURON found in the working directory) they are used as they are.
 
 What each mechanism reads and exposes is declared by its component (``neuromuscle.model.kim``, ``.hatze``,
-``.length``, ``.extensions``); the required set below is derived from them.  ``bench_*.mod`` mechanisms are
-compiled too (so ``nrnivmodl mod`` gives hoc users everything) but are not required.
+``.length``, ``.extensions``); the required set below is derived from them.  The benchmark's KimPublished is
+compiled too (so ``nrnivmodl mod`` gives hoc users everything) but is not required.
+
+Each mod file is named after the mechanism it defines (``KimUnit.mod`` holds KimUnit), except the three Kim
+modules, ``kim_m1_calcium.mod`` (KimCa), ``kim_m2_activation.mod`` (KimAct) and ``kim_m3_force.mod`` (KimForce):
+NEURON advances mechanisms in the order nrnivmodl registers them, which is the order of the file names, and
+Module 1 must run before Module 2, Module 2 before Module 3 (KimAct < KimCa in name order).  Equations used by
+more than one mechanism live once, in ``.inc`` files the mod files INCLUDE.
 """
 
 from __future__ import annotations
@@ -23,22 +29,26 @@ import sys
 import tempfile
 from importlib import resources
 from pathlib import Path
+from typing import Callable
 
 from ..errors import MechanismBuildError
+from . import integrator
 
 #: Extra compiler flags for the mechanisms.  nrnivmodl compiles with -O2; -O3 runs a motoneuron pool 8 % faster
 #: (200 units, 2 s: 6.76 -> 6.23 s) and every trace stays bit-identical (tests/model/test_ports_off_is_baseline.py).
-#: nrnivmodl has no option for compiler flags: they go in through ``-incflags``, which its makefile places
-#: after its own -O2 on the compile line (the last -O wins).  No -march: fused multiply-adds would change the
-#: last bits of every trace.
-COMPILE_FLAGS = "-O3"
+#: -fno-semantic-interposition lets the compiler inline the mechanisms' own FUNCTIONs and PROCEDUREs (nocmodl
+#: gives them external linkage, which in a shared library otherwise forbids it): the equations the .inc files
+#: share cost no call.  nrnivmodl has no option for compiler flags: they go in through ``-incflags``, which its
+#: makefile places after its own -O2 on the compile line (the last -O wins).  No -march: fused multiply-adds
+#: would change the last bits of every trace.
+COMPILE_FLAGS = "-O3 -fno-semantic-interposition"
 
 
 def required_mechanisms() -> tuple[str, ...]:
     """POINT_PROCESS names the package needs: one per registered component (extensions included)."""
-    from . import extensions, hatze, kim, kim_unit, length
+    from . import combine, extensions, hatze, kim, kim_unit, length
 
-    comps = (*kim.COMPONENTS, *kim_unit.COMPONENTS, *hatze.COMPONENTS, length.MuscleLength,
+    comps = (*kim.COMPONENTS, *kim_unit.COMPONENTS, *hatze.COMPONENTS, length.MuscleLength, combine.PortCombine,
              *extensions.mechanism_extensions())
     return tuple(c.suffix for c in comps)
 
@@ -93,28 +103,31 @@ def _neuron_version() -> str:
     return str(getattr(neuron, "__version__", "unknown"))
 
 
-def _nrnivmodl() -> str:
-    exe = shutil.which("nrnivmodl", path=os.pathsep.join([str(Path(sys.executable).parent),
-                                                          os.environ.get("PATH", "")]))
+def _tool(name: str) -> str:
+    """Path of one of NEURON's build tools (nrnivmodl, nrnivmodl-core): beside this Python, else on PATH."""
+    exe = shutil.which(name, path=os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")]))
     if exe is None:
-        raise MechanismBuildError("nrnivmodl not found: install NEURON (pip install neuron)")
+        raise MechanismBuildError(f"{name} not found: install NEURON (pip install neuron)")
     return exe
 
 
-def _library_in(build: Path) -> Path | None:
-    for lib in build.glob("*/libnrnmech.so"):
+def _library_in(build: Path, name: str = "libnrnmech.so") -> Path | None:
+    for lib in build.glob(f"*/{name}"):
         return lib
-    for lib in build.glob("*/.libs/libnrnmech.so"):
+    for lib in build.glob(f"*/.libs/{name}"):
         return lib
     return None
 
 
 def _run_with_progress(cmd: list[str], cwd: Path, every_s: float = 10.0) -> subprocess.CompletedProcess:
-    """Run ``cmd`` capturing its output, printing the elapsed time on stderr every ``every_s`` seconds."""
+    """Run ``cmd`` capturing its output, printing the elapsed time on stderr every ``every_s`` seconds.  The C
+    locale makes nrnivmodl list the mod files in byte order (:func:`mod_files`' order) whatever the user's
+    locale: NEURON advances the mechanisms in the order they are registered."""
     import time
 
     start = time.monotonic()
-    with subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as p:
+    env = {**os.environ, "LC_ALL": "C"}
+    with subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env) as p:
         while True:
             try:
                 out, err = p.communicate(timeout=every_s)
@@ -139,43 +152,80 @@ def compiled_library() -> Path:
     return _compiled_library(mechanism_hash())
 
 
+def coreneuron_library() -> Path:
+    """Path of ``libcorenrnmech.so``, CoreNEURON's build of the current mod files (``nrnivmodl-core``, NMODL's
+    code generator), compiling it into the cache if needed.  It sits beside NEURON's build under its own key:
+    NEURON keeps running its own library, and CoreNEURON loads this one when a run hands it the model."""
+    return _build(mechanism_hash(), "core", "libcorenrnmech.so", _build_coreneuron)
+
+
 def _compiled_library(digest: str) -> Path:
     """:func:`compiled_library` for the mod files of hash ``digest``."""
+    return _build(digest, "", "libnrnmech.so", _build_neuron)
+
+
+def _build_neuron(folder: Path) -> str | None:
+    """nrnivmodl in ``folder`` (the mod files copied there); None on success, else the reason."""
+    proc = _run_with_progress([_tool("nrnivmodl"), "-incflags", COMPILE_FLAGS, "."], folder)
+    if proc.returncode == 0 and _library_in(folder) is not None:
+        return None
+    return f"exit {proc.returncode}:\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}"
+
+
+#: nrnivmodl-core's own report of a complete build.
+_CORE_BUILT = "MOD files built successfully for CoreNEURON"
+
+
+def _build_coreneuron(folder: Path) -> str | None:
+    """nrnivmodl-core in ``folder``; None on success, else the reason.  Success is the library and
+    nrnivmodl-core's own success message: the pip wheel's wrapper then looks for NEURON's ``special`` (which only
+    nrnivmodl makes) and exits with an error after the CoreNEURON build is complete."""
+    proc = _run_with_progress([_tool("nrnivmodl-core"), "-i", COMPILE_FLAGS, "."], folder)
+    if _CORE_BUILT in proc.stdout + proc.stderr and _library_in(folder, "libcorenrnmech.so") is not None:
+        return None
+    return f"exit {proc.returncode}:\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}"
+
+
+def _build(digest: str, variant: str, library: str, build: Callable[[Path], str | None]) -> Path:
+    """The cached ``library`` built from the mod files of hash ``digest`` by ``build`` (which compiles in the
+    folder it is given), under the key of the hash, NEURON's version, the machine, the flags and ``variant``;
+    one compiler at a time (a file lock: parallel tests, MPI ranks)."""
     flags = hashlib.sha256(COMPILE_FLAGS.encode()).hexdigest()[:6]
-    key = f"{digest[:16]}-nrn{_neuron_version()}-{platform.machine()}-f{flags}"
+    key = f"{digest[:16]}-nrn{_neuron_version()}-{platform.machine()}-f{flags}" + (f"-{variant}" if variant else "")
     target = cache_root() / key
-    lib = _library_in(target)
+    lib = _library_in(target, library)
     if lib is not None:
         return lib
     cache_root().mkdir(parents=True, exist_ok=True)
     with open(cache_root() / f"{key}.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)  # one compiler at a time (parallel tests, MPI ranks)
-        lib = _library_in(target)
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        lib = _library_in(target, library)
         if lib is not None:
             return lib
         tmp = Path(tempfile.mkdtemp(prefix=f"{key}.", dir=cache_root()))
         for f in mod_files():
             shutil.copy2(f, tmp / f.name)
-        print(f"neuromuscle: compiling {len(list(tmp.glob('*.mod')))} NMODL mechanisms with nrnivmodl into "
-              f"{target} (first use only; about a minute)", file=sys.stderr, flush=True)
-        proc = _run_with_progress([_nrnivmodl(), "-incflags", COMPILE_FLAGS, "."], tmp)
-        if proc.returncode != 0 or _library_in(tmp) is None:
-            raise MechanismBuildError(
-                f"nrnivmodl failed in {tmp} (exit {proc.returncode}):\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}")
+        print(f"neuromuscle: compiling {len(list(tmp.glob('*.mod')))} NMODL mechanisms into {target} "
+              f"({library}; first use only; a few minutes)", file=sys.stderr, flush=True)
+        failure = build(tmp)
+        if failure is not None:
+            raise MechanismBuildError(f"building {library} failed in {tmp} ({failure}")
         os.replace(tmp, target)
         print("neuromuscle: mechanisms compiled.", file=sys.stderr, flush=True)
-    lib = _library_in(target)
+    lib = _library_in(target, library)
     assert lib is not None
     return lib
 
 
 def load_mechanisms() -> None:
-    """Make the package's mechanisms available in this process's NEURON (idempotent)."""
+    """Make the package's mechanisms available in this process's NEURON (idempotent), and have every
+    ``finitialize`` tell them which integrator runs (:mod:`neuromuscle.model.integrator`)."""
     from neuron import h
 
     names = required_mechanisms()
     present = [hasattr(h, name) for name in names]
     if all(present):
+        integrator.install(mod_files)
         return
     if any(present):
         missing = [n for n, p in zip(names, present) if not p]
@@ -188,3 +238,4 @@ def load_mechanisms() -> None:
     if not h.nrn_load_dll(str(lib)):
         raise MechanismBuildError(f"NEURON could not load {lib}")
     _LOADED = digest
+    integrator.install(mod_files)

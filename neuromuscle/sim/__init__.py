@@ -1,11 +1,12 @@
-"""Running simulations: the Simulator (NEURON's integrator settings, set and restored), recordings by name,
-results with provenance, ``simulate`` for one unit and ``simulate_batch`` for one protocol under several
-parameter sets in one run."""
+"""Building and running simulations: the MuscleUnit (components wired with a parameter set), the Simulator
+(NEURON's integrator settings, set and restored), recordings by name, results with provenance, ``simulate`` for one
+unit and ``simulate_batch`` for one protocol under several parameter sets in one run."""
 
 from .recordings import Recorder
 from .results import SimulationResult, load_result, save_result
 from .run import default_recordings, simulate, simulate_batch
 from .simulator import MAX_DT_MS, Simulator
+from .unit import CONTRACTIONS, EXCITATIONS, MuscleUnit
 
-__all__ = ["MAX_DT_MS", "Recorder", "SimulationResult", "Simulator", "default_recordings", "load_result",
-           "save_result", "simulate", "simulate_batch"]
+__all__ = ["CONTRACTIONS", "EXCITATIONS", "MAX_DT_MS", "MuscleUnit", "Recorder", "SimulationResult", "Simulator",
+           "default_recordings", "load_result", "save_result", "simulate", "simulate_batch"]

@@ -9,6 +9,8 @@ import sys
 from importlib import metadata
 from typing import Any
 
+from .._version import __version__
+
 
 def _version(dist: str) -> str:
     try:
@@ -20,7 +22,7 @@ def _version(dist: str) -> str:
 @functools.lru_cache(maxsize=1)
 def _versions() -> tuple[tuple[str, str], ...]:
     return (("python", sys.version.split()[0]), ("platform", platform.platform()),
-            *((d, _version(d)) for d in ("neuromuscle", "neuron", "numpy", "scipy", "h5py")))
+            ("neuromuscle", __version__), *((d, _version(d)) for d in ("neuron", "numpy", "scipy", "h5py")))
 
 
 def versions() -> dict[str, str]:

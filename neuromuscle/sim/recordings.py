@@ -31,7 +31,9 @@ class Recorder:
 
     With ``every_step_dt_ms`` (the fixed step, ms) NEURON records every step and the samples are taken every
     record_dt_ms afterwards: with more than one thread, NEURON 9's interval recording samples the variables of
-    the second thread at the wrong moments (measured in tests/model/test_unit.py), stepwise recording does not.
+    the second thread at the wrong moments (measured in tests/model/test_unit.py), stepwise recording does not;
+    CoreNEURON records only every step.  ``take()`` moves the samples out of the every-step vectors (call it
+    between the parts of a run made in chunks, so that memory holds one chunk's steps, not the run's).
     """
 
     def __init__(self, unit: Any, names: Sequence[str], record_dt_ms: float,
@@ -51,11 +53,13 @@ class Recorder:
         self._vectors = {n: h.Vector() for n in names}
         self._refs = {n: unit.ref(n) for n in names}
         self._stride = 1
+        self._taken: dict[str, list[np.ndarray]] = {n: [] for n in names}
+        self._steps_taken = 0  # every-step values already moved out of the vectors
         if every_step_dt_ms is not None:
             self._stride = max(1, int(round(record_dt_ms / every_step_dt_ms)))
             if abs(self._stride * every_step_dt_ms - record_dt_ms) > 1e-9 * record_dt_ms:
                 raise InputError(f"record_dt_ms = {record_dt_ms} ms must be a multiple of dt_ms = "
-                                 f"{every_step_dt_ms} ms when NEURON runs on several threads")
+                                 f"{every_step_dt_ms} ms when NEURON runs on several threads or CoreNEURON runs")
         self._tvec = None
         if at_times_until_ms is not None:
             # explicit sample times, rounded to 1e-9 ms like the played length's times: NEURON 9.0.2's CVODE
@@ -79,8 +83,9 @@ class Recorder:
         sample is the variable's value at the end of the run."""
         n = sample_count(duration_ms, self.record_dt_ms)
         out = {}
-        for k, v in self._vectors.items():
-            a = np.array(v)[::self._stride]
+        self.take()
+        for k in self._vectors:
+            a = np.concatenate(self._taken[k]) if self._taken[k] else np.zeros(0)
             if a.size < n:
                 a = np.concatenate([a, np.full(n - a.size, float(self._refs[k][0]))]) if a.size == n - 1 else a
             out[k] = a[:n]
@@ -89,3 +94,15 @@ class Recorder:
             raise RuntimeError(f"recording of {short} holds fewer samples than 0..{duration_ms} ms every "
                                f"{self.record_dt_ms} ms")
         return np.arange(n) * self.record_dt_ms, out
+
+    def take(self) -> None:
+        """Move the samples recorded so far out of NEURON's vectors (every stride-th value of every-step
+        recordings, counted from t = 0 across calls) and empty the vectors."""
+        size = None
+        for k, v in self._vectors.items():
+            a = np.array(v)
+            first = (-self._steps_taken) % self._stride  # the first value of this part that is a sample
+            self._taken[k].append(a[first::self._stride])
+            size = a.size
+            v.resize(0)
+        self._steps_taken += size or 0

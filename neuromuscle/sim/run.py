@@ -8,7 +8,6 @@ from typing import Any, Iterable, Mapping, Sequence
 import numpy as np
 
 from ..errors import InputError, NumericalError
-from ..model.unit import Model, MuscleUnit
 from ..parameters import ParameterSet
 from ..protocols.lengths import LengthTrace, as_length_trace
 from ..validate import check_spike_times
@@ -16,6 +15,7 @@ from .provenance import provenance
 from .recordings import Recorder, on_time_grid
 from .results import CA_STATES, SimulationResult, find_variable
 from .simulator import Simulator
+from .unit import Model, MuscleUnit
 
 
 def default_recordings(unit: MuscleUnit) -> list[str]:
@@ -40,7 +40,7 @@ def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTra
     length (mm), played continuously into the unit's MuscleLength.  excitation/contraction/extensions: as
     ``MuscleUnit``.  record: names "slot.variable" (default ``default_recordings``), sampled every
     record_dt_ms (ms).  method/dt_ms/atol/rtol build the ``Simulator`` unless ``simulator`` is given.
-    initial_state: "rest" (the resting steady state at the initial length) or "published" (seed 001's).
+    initial_state: "rest" (the resting steady state at the initial length) or "published" (that of Kim et al. 2015).
     """
     sim = simulator if simulator is not None else Simulator(method=method, dt_ms=dt_ms, atol=atol, rtol=rtol)
     sim = replace(sim, label=f"parameter set {getattr(params, 'name', '?')!r}")
@@ -131,7 +131,7 @@ def _checked_protocol(spikes_ms: Iterable[float], length: LengthTrace | float, d
 
 
 def _check_pulse_spacing(unit: MuscleUnit, spikes: np.ndarray) -> None:
-    for slot, comp in unit.components.items():
+    for comp in unit.components.values():
         gap = getattr(comp, "min_interval_ms", None)
         if gap and spikes.size > 1 and np.min(np.diff(spikes)) < gap:
             raise InputError(f"spike times: {type(comp).__name__} pulses last {gap} ms and may not overlap; an "
@@ -171,7 +171,7 @@ def _run(units: Sequence[MuscleUnit], spikes: np.ndarray, trace: LengthTrace, du
     if not trace.is_isometric:
         xvec.play(length._ref_xm, tvec, 1)
         vvec.play(length._ref_vm, tvec, 1)
-    stepwise = sim.dt_ms if sim.nthread > 1 and sim.method == "fixed" else None
+    stepwise = sim.dt_ms if sim.method == "fixed" and (sim.nthread > 1 or sim.engine == "coreneuron") else None
     recorders = [Recorder(unit, list(record) if record is not None else default_recordings(unit), record_dt_ms,
                           every_step_dt_ms=stepwise, at_times_until_ms=duration_ms if sim.method == "cvode" else None)
                  for unit in units]

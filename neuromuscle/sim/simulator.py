@@ -11,16 +11,24 @@ local variable time step (one CVODE integrator per cell: per connected tree of s
 
     sim = Simulator(method="cvode", atol=1e-3)
     sim.run(700.0, units=[unit])         # after building units and their recordings
+
+Two engines integrate the fixed step: NEURON itself (``engine="neuron"``) or CoreNEURON (``engine="coreneuron"``),
+NEURON's compute engine for large networks, which runs the same model from NEURON's memory (``psolve`` hands it
+over and takes the states, recordings and spikes back) with the mechanisms compiled by NMODL's code generator
+(``mechanisms.coreneuron_library``).  CoreNEURON has no variable step, no local step and no interval recording:
+variables are recorded every step and sampled afterwards (:class:`neuromuscle.sim.recordings.Recorder`).
 """
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
-from typing import Any, Iterable, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 
 from ..errors import InputError
+from ..validate import positive_number
 
 #: Largest fixed step (ms) accepted.  The linearly implicit scheme stays stable beyond it, but the release
 #: kernel (tau1 = 3 ms) and spike timing are resolved only below it: larger steps are refused, not tolerated.
@@ -52,6 +60,9 @@ func neuromuscle_cvode_run() { local wall0, n
 }
 """
 
+#: The engines that can integrate a run (see the module docstring).
+ENGINES = ("neuron", "coreneuron")
+
 #: NEURON has no getter for ParallelContext.set_maxstep: after a run the interval is put back to this value,
 #: larger than any run, which is how a serial psolve behaves before anyone sets it.
 MAXSTEP_AFTER_RUN_MS = 1e9
@@ -81,8 +92,9 @@ class Simulator:
     reached.  The default wall budget (-1) is ``DEFAULT_BUDGET_S`` plus ``DEFAULT_BUDGET_S_PER_S`` per simulated
     second; None means none.  ``cvode_minstep_ms`` is NEURON's CVode.minstep (0: CVODE's own limit); a failing
     CVODE step is reported the same way.  ``local_dt`` (CVODE only): one integrator per cell (NEURON's lvardt).
-    On several MPI ranks, and with local_dt, CVODE runs by psolve in chunks of ``maxstep_ms``; the wall budget is checked between
-    chunks and the step budget does not apply."""
+    On several MPI ranks, and with local_dt, CVODE runs by psolve in chunks of ``maxstep_ms``; the wall budget is
+    checked between chunks and the step budget does not apply.  ``engine``: "neuron" or "coreneuron" (fixed step
+    only; see the module docstring)."""
 
     method: str = "fixed"
     dt_ms: float = 0.025
@@ -96,10 +108,16 @@ class Simulator:
     cvode_minstep_ms: float = 0.0
     label: str = "run"
     local_dt: bool = False
+    engine: str = "neuron"
 
     def __post_init__(self) -> None:
         if self.method not in ("fixed", "cvode"):
             raise InputError(f"method must be 'fixed' or 'cvode', got {self.method!r}")
+        if self.engine not in ENGINES:
+            raise InputError(f"engine must be one of {', '.join(ENGINES)}, got {self.engine!r}")
+        if self.engine == "coreneuron" and self.method != "fixed":
+            raise InputError("engine='coreneuron' integrates the fixed step only (CoreNEURON has no CVODE): give "
+                             "method='fixed' or engine='neuron'")
         for name in ("dt_ms", "atol", "rtol", "maxstep_ms"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
@@ -132,6 +150,8 @@ class Simulator:
                "rtol": self.rtol if cv else None, "nthread": self.nthread}
         if self.local_dt:
             out["local_dt"] = True
+        if self.engine != "neuron":
+            out["engine"] = self.engine
         return out
 
     # -- NEURON's global state -----------------------------------------------------------------------------
@@ -143,10 +163,14 @@ class Simulator:
         h.load_file("stdrun.hoc")
         cv = h.CVode()
         pc = h.ParallelContext()
+        from neuron import coreneuron
+
         return {"dt": h.dt, "steps_per_ms": h.steps_per_ms, "secondorder": h.secondorder,
                 "cvode_active": cv.active(), "atol": cv.atol(), "rtol": cv.rtol(), "nthread": pc.nthread(),
                 "minstep": cv.minstep(), "local_dt": cv.use_local_dt(),
-                "atolscale": {name: cv.atolscale(name) for name, _ in _registered_states()}}
+                "atolscale": {name: cv.atolscale(name) for name, _ in _registered_states()},
+                "cache_efficient": cv.cache_efficient(), "coreneuron": coreneuron.enable,
+                "coreneuron_verbose": coreneuron.verbose, "CORENEURONLIB": os.environ.get("CORENEURONLIB")}
 
     @staticmethod
     def _restore(saved: dict[str, Any]) -> None:
@@ -165,6 +189,15 @@ class Simulator:
             pc.nthread(saved["nthread"])
         pc.set_maxstep(MAXSTEP_AFTER_RUN_MS)
         h.dt, h.steps_per_ms, h.secondorder = saved["dt"], saved["steps_per_ms"], saved["secondorder"]
+        from neuron import coreneuron
+
+        coreneuron.enable = saved["coreneuron"]
+        coreneuron.verbose = saved["coreneuron_verbose"]
+        cv.cache_efficient(saved["cache_efficient"])
+        if saved["CORENEURONLIB"] is None:
+            os.environ.pop("CORENEURONLIB", None)
+        else:
+            os.environ["CORENEURONLIB"] = saved["CORENEURONLIB"]
 
     def _apply(self) -> None:
         from neuron import h
@@ -188,6 +221,35 @@ class Simulator:
                 cv.atolscale(name, scale)
         else:
             cv.active(0)
+        if self.engine == "coreneuron":
+            from neuron import coreneuron
+
+            from ..model.mechanisms import coreneuron_library
+
+            os.environ["CORENEURONLIB"] = str(coreneuron_library())  # where NEURON finds CoreNEURON's build
+            cv.cache_efficient(1)  # CoreNEURON takes the model from NEURON's cache-efficient layout
+            coreneuron.enable = True
+            coreneuron.verbose = 0
+
+    def _fixed_psolve(self, duration_ms: float, chunk_ms: float | None, after_chunk: Callable[[], None] | None
+                      ) -> None:
+        """The fixed step to duration_ms (ms), in chunks of chunk_ms (ms) with after_chunk() after each."""
+        from neuron import h
+
+        pc = h.ParallelContext()
+        if chunk_ms is None:
+            pc.psolve(duration_ms)
+            if after_chunk is not None:
+                after_chunk()
+            return
+        positive_number("chunk_ms", chunk_ms)
+        k = 1
+        while h.t < duration_ms - 0.5 * self.dt_ms:
+            # chunk ends on the step grid, counted from 0 (no drift from adding chunk lengths)
+            pc.psolve(min(duration_ms, self.dt_ms * round(k * chunk_ms / self.dt_ms)))
+            if after_chunk is not None:
+                after_chunk()
+            k += 1
 
     def _cvode_with_budget(self, duration_ms: float) -> None:
         from neuron import h
@@ -242,11 +304,14 @@ class Simulator:
                                      "max_wall_s, loosen atol, or use the fixed step")
 
     # -- running -------------------------------------------------------------------------------------------
-    def run(self, duration_ms: float, units: Iterable[Any] = (), cvode_events_ms: Sequence[float] = ()) -> float:
+    def run(self, duration_ms: float, units: Iterable[Any] = (), cvode_events_ms: Sequence[float] = (),
+            chunk_ms: float | None = None, after_chunk: Callable[[], None] | None = None) -> float:
         """Initialise and integrate from 0 to duration_ms (ms); returns the integration's wall time (s).
         ``units`` (MuscleUnit or anything with ``prepare()``) queue their recorded spikes at initialisation;
         ``cvode_events_ms`` are times (ms) where CVODE must stop and restart (discontinuities of an input, e.g.
-        eq 19's movement onset)."""
+        eq 19's movement onset).  Fixed step: with ``chunk_ms`` (ms) the run stops every chunk_ms and calls
+        ``after_chunk()`` (e.g. to take the samples out of every-step recordings, which CoreNEURON fills in
+        memory); the states, queued events and results are those of one run."""
         import time
 
         from neuron import h
@@ -272,7 +337,7 @@ class Simulator:
                 pc = h.ParallelContext()
                 pc.set_maxstep(self.maxstep_ms)
                 start = time.perf_counter()
-                pc.psolve(duration_ms)
+                self._fixed_psolve(duration_ms, chunk_ms, after_chunk)
             return time.perf_counter() - start
         finally:
             self._restore(saved)

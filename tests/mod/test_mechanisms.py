@@ -1,4 +1,5 @@
-"""Compilation cache keyed by the mod files' content (the hoc route, plain `nrnivmodl mod`: tests/docs/test_readme.py)."""
+"""Compilation cache keyed by the mod files' content (the hoc route, plain `nrnivmodl mod`:
+tests/docs/test_readme.py)."""
 
 import re
 import subprocess
@@ -22,7 +23,7 @@ def test_every_mod_file_has_a_header_with_units_and_declares_threadsafe_first():
     for f in (f for f in mechanisms.mod_files() if f.suffix == ".mod"):
         text = f.read_text()
         header = text.split("ENDCOMMENT")[0]
-        assert text.startswith("COMMENT") and re.search(r"\bunits?\b|\(mm", header, re.I), f.name
+        assert re.match(r"TITLE [^\n]+\n\nCOMMENT\n", text) and re.search(r"\bunits?\b|\(mm", header, re.I), f.name
         block = re.search(r"NEURON \{(.*?)\}", text, re.S).group(1)
         assert "THREADSAFE" in block, f.name
         if "POINTER" in block:

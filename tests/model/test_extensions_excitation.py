@@ -49,7 +49,8 @@ def peaks(result, spikes, window_ms):
 
 
 #: the cases run against their SciPy twin: every CASES entry, and relaxation_rate with d < 1 on a 100 Hz burst and
-#: then a lone twitch (each spike raises X by 30 % of what is left); id -> (extension, values, spikes, duration, outputs)
+#: then a lone twitch (each spike raises X by 30 % of what is left);
+#: id -> (extension, values, spikes, duration, outputs)
 TWINS = {**{name: (name, *case) for name, case in CASES.items()},
          "relaxation_rate/partial": ("relaxation_rate", {"k": 0.6, "tau": 150.0, "d": 0.3},
                                      np.concatenate([constant_rate(100, 150.0, start_ms=50.0), [600.0]]), 900.0,
@@ -144,10 +145,10 @@ def test_staircase_is_built_by_low_rates(ct09):
 
 @pytest.mark.parametrize("tau_f", [40.0, 200.0])
 def test_a_tetanus_hardly_builds_the_staircase_at_any_admissible_interval_scale(ct09, tau_f):
-    """What tells the staircase from a removal slowed by recent activity (synth's relaxation effect, stop 37): at
+    """What tells the staircase from a removal slowed by recent activity (synth's relaxation effect): at
     either tau_f bound, the 100 Hz tetanus of the post-tetanic trials (30 spikes) builds S as 1.2 or 0.9 lone spikes
-    do, six twitches at 2 Hz as 4.2 or 3.5 (u 0.05, tau 5 s; S read from NEURON).  The shallow gate of stops 24-36
-    at its 2 ms bound built ~15 from the tetanus."""
+    do, six twitches at 2 Hz as 4.2 or 3.5 (u 0.05, tau 5 s; S read from NEURON).  A shallow gate, u (1 - F) with
+    tau_f at 2 ms, builds ~15 from the tetanus."""
     values = {"k": 0.5, "u": 0.05, "tau": 5000.0, "tau_f": tau_f}
     built = {}
     for label, spikes in (("tetanus", constant_rate(100, 299.0, start_ms=50.0)),
@@ -159,7 +160,8 @@ def test_a_tetanus_hardly_builds_the_staircase_at_any_admissible_interval_scale(
 
 
 def test_staircase_interval_scale_below_its_bound_is_refused(ct09):
-    """tau_f under 40 ms would let a tetanus build the staircase (the form of stops 24-36 went down to 2 ms)."""
+    """tau_f under 40 ms would let a tetanus build the staircase (a shallow gate with tau_f at 2 ms builds ~15 lone
+    spikes' worth from one)."""
     with pytest.raises(InputError, match="tau_f"):
         simulate(ct09, [50.0], XM, 200.0, extensions={"staircase": {"k": 0.5, "tau_f": 2.0}})
 
@@ -267,7 +269,7 @@ def test_selected_by_name_in_the_unit(ct09, name):
     values = CASES[name][0]
     with MuscleUnit(ct09, extensions={name: values}) as unit:
         assert unit.extension_names == (name,)
-        for port, var in TARGETS[name].items():
+        for port in TARGETS[name]:
             slot, _, _ = port.partition(".")
             assert unit.components[slot].obj.use_ports == 1.0, port
         for k, v in values.items():

@@ -1,4 +1,4 @@
-"""The fused Kim unit (mod/kim_unit.mod, KimUnit) against the three-mechanism unit (KimCa, KimAct, KimForce):
+"""The fused Kim unit (mod/KimUnit.mod, KimUnit) against the three-mechanism unit (KimCa, KimAct, KimForce):
 bit-identical under the fixed step and, for one unit, under CVODE (the same right-hand side), for a twitch,
 trains, and random length with and without movement compensation; the muscle-every-k-steps option converges to
 it; extensions and a contraction beside it are refused."""

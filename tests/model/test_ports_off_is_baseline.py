@@ -2,12 +2,12 @@
 
 History of tests/baselines/unit_traces.npz (regenerate with ``python tests/baselines/make_unit_traces.py``, only
 when the numerics change on purpose, and say so in the commit):
-- the component redesign (issue 8) reproduced the traces of commit 1fe629a bit for bit for the Kim modules,
+- the component redesign reproduced the traces of commit 1fe629a bit for bit for the Kim modules,
   fixed step and CVODE (Hatze's excitation moved by 8.8e-6 of peak when its STATE assignment left DERIVATIVE);
-- the backward-Euler CE step at the SE's slack boundary and on the eccentric saturation (issue 11) then moved
+- the backward-Euler CE step at the SE's slack boundary and on the eccentric saturation then moved
   fixed-step traces by at most 8e-8 of peak in isometric trials and 0.26 % under random length; CVODE unchanged
   (eq 11 now runs up to its asymptote, capped at vmax, instead of a tangent past 95 % of it);
-- units then started from rest by default (issue 12), which removes the first ~100 ms of creep: the traces
+- units then started from rest by default, which removes the first ~100 ms of creep: the traces
   changed there; initial_state="published" reproduces the previous ones;
 - the CVODE right-hand side of Module 1 then put the pump's tangent on the Jacobian diagonal (same equations,
   different CVODE steps): CVODE traces moved by at most 0.0035 % of peak, fixed step unchanged;

@@ -1,6 +1,6 @@
 """NEURON mechanisms vs the independent SciPy integration, and vs the spec's reference values.
 
-Issue 2's accuracy contract: within 0.5 % of SciPy on twitch peak, time to peak, half-relaxation and train
+The accuracy contract: within 0.5 % of SciPy on twitch peak, time to peak, half-relaxation and train
 plateaus at dt = 0.025 ms (fixed step and CVODE), within 1 % of the spec's reference values, dt convergence.
 """
 
@@ -12,7 +12,8 @@ from neuromuscle.analysis.metrics import plateau, twitch_metrics
 from neuromuscle.protocols import constant_rate, isokinetic_ramp, random_interval, random_length
 from neuromuscle.reference import reference_simulate
 
-# spec/kim2015_model.md, reference values (CT09 unless named): (set, length mm, stimulus ms, end ms) -> values
+# the reference values of Kim et al. 2015 (docs/reference/kim2015.md), CT09 unless named:
+# (set, length mm, stimulus ms, end ms) -> values
 TWITCH_REFERENCE = {
     ("CT09", -8.0, 500.0): (3.57, 81.4, 41.2),
     ("CT09", -16.0, 500.0): (0.856, 61.0, 59.1),
@@ -24,7 +25,7 @@ TRAIN_REFERENCE = {10: 0.544, 20: 0.894, 40: 0.963, 100: 0.989}
 
 
 def _initial(stimulus_ms: float) -> str:
-    # the spec's "twitch at t = 10 ms" is the unsettled twitch: from seed 001's published initial state
+    # the spec's "twitch at t = 10 ms" is the unsettled twitch: from the published initial state of Kim et al. 2015
     return "published" if stimulus_ms < 100.0 else "rest"
 
 
@@ -113,7 +114,8 @@ def test_random_length_fixed_step_agrees_with_cvode(ct09):
     spikes = random_interval(50.0, 1500.0, seed=5, start_ms=100.0)
     trace = random_length(1700.0, seed=7)
     a = simulate(ct09, spikes, trace, 1700.0, record_dt_ms=0.5, excitation=kim_excitation(movement_compensation=True))
-    b = simulate(ct09, spikes, trace, 1700.0, method="cvode", record_dt_ms=0.5, excitation=kim_excitation(movement_compensation=True))
+    b = simulate(ct09, spikes, trace, 1700.0, method="cvode", record_dt_ms=0.5,
+                 excitation=kim_excitation(movement_compensation=True))
     n = min(a.t_ms.size, b.t_ms.size)
     err = a.force_N[:n] - b.force_N[:n]
     # random lengthening at low activation drives the CE towards the Mashima asymptote, where the force is

@@ -31,7 +31,8 @@ def test_cvode_records_every_0_025_ms_under_a_ramp_without_aborting():
 
 
 def test_cvode_samples_are_the_same_at_any_interval():
-    p, spikes, ramp = load_parameters("CT09"), constant_rate(40, 350, start_ms=50), isokinetic_ramp(-10, -4, 50, 200, 400)
+    p, spikes = load_parameters("CT09"), constant_rate(40, 350, start_ms=50)
+    ramp = isokinetic_ramp(-10, -4, 50, 200, 400)
     a = simulate(p, spikes, ramp, 400.0, simulator=Simulator(method="cvode"), record_dt_ms=0.025)
     b = simulate(p, spikes, ramp, 400.0, simulator=Simulator(method="cvode"), record_dt_ms=0.5)
     assert np.array_equal(a.t_ms[::20], b.t_ms)

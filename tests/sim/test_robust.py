@@ -1,4 +1,4 @@
-"""Robust numerics (issue 11): movement agreement, the eccentric saturation, CVODE budgets, no silent input."""
+"""Robust numerics: movement agreement, the eccentric saturation, CVODE budgets, no silent input."""
 
 import numpy as np
 import pytest
@@ -9,7 +9,8 @@ from neuromuscle.reference import reference_simulate
 
 
 def _fixed_vs_cvode(ct09, spikes, trace, duration_ms, mc=False):
-    a = simulate(ct09, spikes, trace, duration_ms, record_dt_ms=0.5, excitation=kim_excitation(movement_compensation=mc))
+    a = simulate(ct09, spikes, trace, duration_ms, record_dt_ms=0.5,
+                 excitation=kim_excitation(movement_compensation=mc))
     b = simulate(ct09, spikes, trace, duration_ms, record_dt_ms=0.5, method="cvode",
                  excitation=kim_excitation(movement_compensation=mc))
     assert a.t_ms.size == b.t_ms.size and a.t_ms[-1] == duration_ms  # 0..stop inclusive under both
@@ -19,8 +20,8 @@ def _fixed_vs_cvode(ct09, spikes, trace, duration_ms, mc=False):
 @pytest.mark.parametrize("seed", [1, 2, 3])
 @pytest.mark.parametrize("mc", [False, True])
 def test_random_length_fixed_step_within_half_percent_of_cvode(ct09, seed, mc):
-    """The seed's random-length protocol, 20 Hz from 500 ms: fixed step within 0.5 % of peak of CVODE (was up
-    to 12 % with movement compensation before the backward-Euler CE step)."""
+    """The random-length protocol of Kim et al. 2015, 20 Hz from 500 ms: fixed step within 0.5 % of peak of CVODE
+    (up to 12 % with movement compensation without the backward-Euler CE step)."""
     err = _fixed_vs_cvode(ct09, constant_rate(20, 1200.0, start_ms=500.0), random_length(1700.0, seed=seed), 1700.0, mc)
     assert err < 0.005
 
@@ -28,11 +29,11 @@ def test_random_length_fixed_step_within_half_percent_of_cvode(ct09, seed, mc):
 @pytest.mark.parametrize("seed", [1, 2, 3])
 @pytest.mark.parametrize("mc", [False, True])
 def test_random_length_against_scipy(ct09, seed, mc):
-    """The seed's random-length protocol (20 Hz from 200 ms, 900 ms), eqs 19-20 off and on, against the
-    independent SciPy integration: both integrators within 0.5 % of peak (measured at stop 33: fixed
+    """The random-length protocol of Kim et al. 2015 (20 Hz from 200 ms, 900 ms), eqs 19-20 off and on, against the
+    independent SciPy integration: both integrators within 0.5 % of peak (measured: fixed
     0.014-0.033 %, CVODE 0.002-0.004 %; seed 1 with eqs 19-20 was 12 % of peak off CVODE before the
-    backward-Euler CE step).  ~10 s each since the reference's SE state stopped jumping at every length sample
-    (stop 33; ~2 min before)."""
+    backward-Euler CE step).  ~10 s each because the reference's SE state does not jump at every length sample
+    (~2 min with a state that does)."""
     spikes, trace = constant_rate(20, 700.0, start_ms=200.0), random_length(900.0, seed=seed)
     ref = reference_simulate(ct09, spikes, trace, 900.0, record_dt_ms=0.5, movement_compensation=mc, rtol=1e-7)
     for method in ("fixed", "cvode"):

@@ -1,4 +1,4 @@
-"""Model extensions: the catalogue of canonical causes (shared/spec/diagnosis.md) as switchable components.
+"""Model extensions: the catalogue of canonical causes (docs/reference/diagnosis.md) as switchable components.
 
 An extension is one mod file plus one Python file in this folder holding an ``Extension`` subclass with a
 canonical ``name``: it is found here by scanning the folder, so nothing else is edited to add one.  It drives one
@@ -19,18 +19,62 @@ from __future__ import annotations
 import functools
 import importlib
 import pkgutil
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any, ClassVar, Mapping
 
 from ...errors import InputError
 from ..component import Component, Param
 
 
+@dataclass(frozen=True)
+class Telling:
+    """Which trials can show a cause, as conditions on a trial's description (``neuromuscle.diagnose.phases``):
+    every condition given must hold.  ``text`` says it in words.
+
+    moving: True, the length moves while stimulated; False, the trial is isometric.  min_stimuli, min/max mean
+    rate (Hz), min train duration (s), min |mean length - optimum| (mm).  short_interval_ms: some interval at most
+    this long among others at least twice as long (doublets, random trains).  burst_after_pause: stimuli after a
+    pause that follows a burst.  lengthening_below_optimum: stimulated lengthening below the optimum.
+    hold_after: +1 / -1, a stimulated hold after an active stretch / shortening."""
+
+    text: str
+    moving: bool | None = None
+    min_stimuli: int = 1
+    min_rate_hz: float = 0.0
+    max_rate_hz: float = float("inf")
+    min_train_s: float = 0.0
+    min_length_offset_mm: float = 0.0
+    short_interval_ms: float | None = None
+    burst_after_pause: bool = False
+    lengthening_below_optimum: bool = False
+    hold_after: int = 0
+
+
+#: Baseline parameters an extension interacts with, by kind of effect (``Extension.interacts``): its fit frees
+#: them with its own and restarts them from the base set too, so a candidate is not judged against the
+#: compensations the baseline made for it.
+LENGTH_PARAMETERS = ("P0", "g1", "g2")
+ACTIVATION_PARAMETERS = ("C1", "C2", "C3", "alpha", "Umax", "tau2")
+MOVEMENT_PARAMETERS = ("KSE", "a0", "b0", "c0", "d0")
+
+
 class Extension(Component):
-    """A component that modulates the baseline through its ports.  ``name`` is the canonical cause name."""
+    """A component that modulates the baseline through its ports.  ``name`` is the canonical cause name; the
+    class also holds the cause's facts the diagnosis reads: what the data show (``shows``), the trials that can
+    show it (``telling``), the explanatory variable its residual follows (``variable``, a name of
+    ``neuromuscle.diagnose.residuals.VARIABLES``), whether it acts through the movement itself (``moves``) or is
+    defined by the force after an active stretch (+1) or shortening (-1) (``after``), the baseline parameters
+    it interacts with (``interacts``) and its section of the extensions page (``docs``)."""
 
     name: ClassVar[str]
     targets: ClassVar[Mapping[str, str]] = {}
+    shows: ClassVar[str] = ""
+    telling: ClassVar[Telling] = Telling("any stimulated trial")
+    variable: ClassVar[str] = "length"
+    moves: ClassVar[bool] = False
+    after: ClassVar[int] = 0
+    interacts: ClassVar[tuple[str, ...]] = ACTIVATION_PARAMETERS
+    docs: ClassVar[str] = "reference/extensions.md"
 
     def attach(self, components: Mapping[str, Component], params: Mapping[str, float] | None) -> None:
         """Called by the unit once every component is built (a mechanism extension needs nothing here)."""

@@ -1,4 +1,4 @@
-"""Extension "doublet_potentiation": short-interval facilitation of Ca2+ release (mod/ext_doublet.mod).
+"""Extension "doublet_potentiation": short-interval facilitation of Ca2+ release (mod/ExtDoublet.mod).
 
 Equations (ms, per spike): dF/dt = -F/tau_f, dH/dt = -H/tau_h; at each spike first H -> H + F (1 - H) (F as the
 previous spikes left it), then F -> F + (1 - F); KimCa's release is multiplied by gain = 1 + k H.  A single
@@ -17,7 +17,7 @@ from typing import Callable, Mapping
 import numpy as np
 
 from ..component import Param, State
-from . import Extension
+from . import Extension, Telling
 from .spike_trace import SpikeTrace
 
 _SRC = ("doublet bounds: catch-like extra force after 5-15 ms intervals, fading by 25 ms, lasting up to a few "
@@ -28,6 +28,10 @@ class DoubletPotentiation(Extension):
     """Extra force after short inter-spike intervals: a spike arriving within a few ms of the previous one has
     its release amplified by 1 + k H."""
 
+    shows = "extra force after short inter-spike intervals (5-15 ms)"
+    telling = Telling("isometric trains with an interval <= 15 ms among longer ones (doublets, random trains)",
+                      moving=False, short_interval_ms=15.0)
+    variable = "isi"
     name = "doublet_potentiation"
     suffix = "ExtDoublet"
     namespace = "doublet_potentiation"

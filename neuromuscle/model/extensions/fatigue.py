@@ -1,4 +1,4 @@
-"""Extension "fatigue": a slow depletion state that scales Ca2+ release (mod/ext_fatigue.mod).
+"""Extension "fatigue": a slow depletion state that scales Ca2+ release (mod/ExtFatigue.mod).
 
 Equations (ms, per spike): dD/dt = -D/tau_rec; at each spike D -> D + k (1 - D); KimCa's release is multiplied by
 gain = 1 - D.  Neutral: k = 0.  Bounds: k in [0, 0.2] per spike (0.2 halves release within 3 spikes, beyond any
@@ -12,7 +12,7 @@ from typing import Callable, Mapping
 import numpy as np
 
 from ..component import Param, State
-from . import Extension
+from . import ACTIVATION_PARAMETERS, Extension, Telling
 from .spike_trace import SpikeTrace
 
 _SRC = "fatigue bounds: per-spike depletion up to 0.2; recovery 0.1 s to 10 min (mammalian fibres)"
@@ -21,6 +21,10 @@ _SRC = "fatigue bounds: per-spike depletion up to 0.2; recovery 0.1 s to 10 min 
 class Fatigue(Extension):
     """Force declines over long high-rate trains: release scaled by 1 - D, D a slow per-spike depletion."""
 
+    shows = "force declines over long high-rate trains"
+    telling = Telling("isometric trains of >= 1 s at >= 30 Hz", moving=False, min_train_s=1.0, min_rate_hz=30.0)
+    variable = "recent_activity"
+    interacts = ACTIVATION_PARAMETERS + ("P0",)
     name = "fatigue"
     suffix = "ExtFatigue"
     namespace = "fatigue"

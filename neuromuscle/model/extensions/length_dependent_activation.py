@@ -1,4 +1,4 @@
-"""Extension "length_dependent_activation": seed 001's eq 18 switched on in KimCa (no mod file of its own).
+"""Extension "length_dependent_activation": eq 18 of Kim et al. 2015 switched on in KimCa (no mod file of its own).
 
 Equation (Xm mm, K5 1/(M ms)):  K5 = phi(Xm) K5i,  phi(Xm) = phi1 Xm + phi2 for Xm <= X_opt (= g1), else
 phi3 Xm + phi4.  Parameters are KimCa's own (qualified ``kim_m1.phi1`` ...): phi1, phi3 in 1/mm within
@@ -10,12 +10,17 @@ KimCa.lencomp = 1 and the values given; KimAct's eq 20 reads the same phi1, phi2
 from __future__ import annotations
 
 from ..kim import KimCalcium
-from . import SwitchExtension
+from . import ACTIVATION_PARAMETERS, LENGTH_PARAMETERS, SwitchExtension, Telling
 
 
 class LengthDependentActivation(SwitchExtension):
     """Activation, not only force, depends on length: troponin binding K5 scaled by phi(Xm) (eq 18)."""
 
+    shows = "low-rate force falls off away from the optimum more than g(Xm) allows"
+    telling = Telling("isometric twitches or trains <= 20 Hz more than 2 mm from the optimum", moving=False,
+                      max_rate_hz=20.0, min_length_offset_mm=2.0)
+    variable = "length"
+    interacts = LENGTH_PARAMETERS + ACTIVATION_PARAMETERS
     name = "length_dependent_activation"
     namespace = KimCalcium.namespace
     slot = "ca"

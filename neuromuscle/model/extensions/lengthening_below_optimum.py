@@ -1,18 +1,17 @@
 """Extension "lengthening_below_optimum": Ca2+ release falls while the muscle lengthens at or below its optimum
-(mod/ext_lengthening.mod).
+(mod/ExtLengthening.mod).
 
 Equations (Xm mm, Vm mm/s positive = lengthening, t ms): target = k (1 - exp(-Vm/v0)) while Xm <= X_opt (= g1)
 and Vm > 0, else 0; dE/dt = (target - E)/tau_on with tau_on = 5 ms (fixed); KimCa's release (eq 3) is multiplied
 by gain = 1 - E.  Neutral: k = 0 (gain exactly 1).  Bounds: k in [0, 0.9] (a lengthening contraction at low rates
-produces up to ~2x less force than the model's; seed 001's eq 20 at CT09 divides A by ~1.6 at the optimum and
+produces up to ~2x less force than the model's; eq 20 of Kim et al. 2015 at CT09 divides A by ~1.6 at the optimum and
 100 mm/s; its authors found the error largest at <= 20 Hz); v0 in [1, 200] mm/s (half the effect at 0.7 v0: from
 slow stretches of a few mm/s to the fastest of the cat hindlimb).
 
-Until stop 23 this extension was seed 001's eq 20 switched on in KimAct (A divided by (1 + beta phi(Xm))
-(1 + gamma Vm)).  It is still the baseline's own switch (``kim_excitation(movement_compensation=True)``), but as a
-cause it was never named: on the five-seed suite's lengthening cases its held-out gain was negative (-510,
--12934, -1023 noise variances on seeds 1-3).  A divisor on A acts equally at every rate and grows without bound
-with velocity; the seed's own discussion places the error at low rates, which a change of Ca2+ (Module 1, where
+Why not the paper's eq 20 (A divided by (1 + beta phi(Xm)) (1 + gamma Vm)), the baseline's own switch
+(``kim_excitation(movement_compensation=True)``): as a cause it loses on held-out trials (on the diagnosis suite's
+lengthening cases its held-out gain was negative).  A divisor on A acts equally at every rate and grows without
+bound with velocity; the paper's own discussion places the error at low rates, which a change of Ca2+ (Module 1, where
 eq 18 acts) gives and a change of A does not.
 """
 
@@ -24,16 +23,16 @@ from typing import TYPE_CHECKING, Mapping
 import numpy as np
 
 from ..component import Param, Port, State
-from . import Extension
+from . import MOVEMENT_PARAMETERS, Extension, Telling
 
 if TYPE_CHECKING:
-    from ...reference import Observables, StateModulation
+    from .twin import Observables, StateModulation
 
-_SRC = ("lengthening below the optimum: low-rate force during lengthening up to ~2x below the model's (seed 001 "
-        "eq 20 and discussion: the error is largest at <= 20 Hz below the optimum); velocities from a few mm/s to "
-        "~200 mm/s in the cat hindlimb")
+_SRC = ("lengthening below the optimum: low-rate force during lengthening up to ~2x below the model's (Kim et al. "
+        "2015, eq 20 and discussion: the error is largest at <= 20 Hz below the optimum); velocities from a few mm/s "
+        "to ~200 mm/s in the cat hindlimb")
 
-#: The time (ms) the release loss takes to follow the gate (fixed, not fitted: mod/ext_lengthening.mod).
+#: The time (ms) the release loss takes to follow the gate (fixed, not fitted: mod/ExtLengthening.mod).
 TAU_ON_MS = 5.0
 
 
@@ -41,6 +40,11 @@ class LengtheningBelowOptimum(Extension):
     """Excess model force while lengthening below the optimum: release times 1 - E, E following
     k (1 - exp(-Vm/v0)) while Xm <= X_opt and Vm > 0."""
 
+    shows = "excess model force while lengthening below the optimum"
+    telling = Telling("stimulated lengthening below the optimum", lengthening_below_optimum=True)
+    variable = "velocity"
+    moves = True
+    interacts = MOVEMENT_PARAMETERS
     name = "lengthening_below_optimum"
     suffix = "ExtLengthening"
     namespace = "lengthening_below_optimum"
@@ -63,7 +67,7 @@ class LengtheningBelowOptimum(Extension):
     @staticmethod
     def reference_modulation(values: Mapping[str, float], spikes_ms: np.ndarray) -> StateModulation:
         """The same equations for the SciPy reference: E integrated with Modules 1-3, driving release_gain."""
-        from ...reference import StateModulation
+        from .twin import StateModulation
 
         k, v0 = float(values["k"]), float(values["v0"])
 

@@ -1,9 +1,10 @@
-"""Extension "movement_induced_depression": the Ca2+ sensitivity of activation falls on seed 001's eq 19 time
-course, on a movement clock that runs down at rest (mod/ext_movement.mod, driving KimAct's C1_shift port).
+"""Extension "movement_induced_depression": the Ca2+ sensitivity of activation falls on the time course of
+eq 19 of Kim et al. 2015, on a movement clock that runs down at rest (mod/ExtMovement.mod, driving KimAct's
+C1_shift port).
 
 Equations (ms, mm/s): m = Vm^2/(Vm^2 + v0^2); the clock c (ms) obeys dc/dt = m - (1 - m) c/trec from c = 0;
 D = (tanh((c - t50)/width) - tanh(-t50/width)) / (1 - tanh(-t50/width)) in [0, 1); eq 8's half-activation point
-C1 -> C1 + k D.  Moving well above v0, c counts time spent moving as the seed's clock counts time since the onset
+C1 -> C1 + k D.  Moving well above v0, c counts time spent moving as the paper's clock counts time since the onset
 (slower movements run it slower, towards a ceiling (Vm/v0)^2 trec); held still, it decays with trec and the
 depression recovers.  Neutral: k = 0 (shift exactly 0, bit-identical to the baseline); isometric trials: c = 0,
 shift exactly 0, whatever the values.
@@ -14,11 +15,10 @@ within a fraction of a second to seconds; 1e5 ms hardly runs down within a trial
 5 mm/s (from slow stretches of a few mm/s to the fastest of the cat hindlimb's working range, as the lengthening
 extension's v0).
 
-Until stop 40 this extension was eq 19 switched on in KimAct (``movdep``: clock = time since the movement onset,
-A = Atil^alpha(t); still the baseline's own switch for ``kim_excitation(movement_compensation=True)``).  Its
-depression never recovers: on the five-seed suite's movement case 3 (strength 0.26) the held-out stretch and
-shortening holds recovered within seconds, and it removed 8 % of the held-out excess, the one case of 55 not named
-at stop 40.  Why the sensitivity and not the exponent: docs/extensions.md.
+Why not the paper's eq 19 itself (KimAct's ``movdep``: clock = time since the movement onset, A = Atil^alpha(t);
+still the baseline's own switch for ``kim_excitation(movement_compensation=True)``): its depression never recovers,
+so it cannot follow a preparation whose force recovers in the holds after a movement.  Why the sensitivity and not
+the exponent: docs/reference/extensions.md.
 """
 
 from __future__ import annotations
@@ -31,14 +31,14 @@ import numpy as np
 
 from ..component import Param, Port, State
 from ..kim import KimActivation
-from . import Extension
+from . import ACTIVATION_PARAMETERS, MOVEMENT_PARAMETERS, Extension, Telling
 
 if TYPE_CHECKING:
-    from ...reference import Observables, StateModulation
+    from .twin import Observables, StateModulation
 
 _SRC = ("movement-induced depression: force depressed by a movement recovers at rest within a fraction of a second "
-        "to seconds (cat soleus, human triceps surae); seed 001's eq 19 time course (CT09 alpha2 400 ms, alpha3 "
-        "160 ms), applied by its authors only while the length changed")
+        "to seconds (cat soleus, human triceps surae); the time course of eq 19 of Kim et al. 2015 "
+        "(CT09 alpha2 400 ms, alpha3 160 ms), applied by its authors only while the length changed")
 
 
 def _eq19(name: str, as_name: str) -> Param:
@@ -62,6 +62,11 @@ class MovementInducedDepression(Extension):
     """Force sinks progressively during movement: eq 8's half-activation point rises by k D(c), c a clock of time
     spent moving (m = Vm^2/(Vm^2 + v0^2) ms/ms) that runs down at rest with trec."""
 
+    shows = "force sinks progressively during movement at low rates"
+    telling = Telling("stimulated trials with movement at <= 20 Hz", moving=True, max_rate_hz=20.0)
+    variable = "time_since_movement_onset"
+    moves = True
+    interacts = MOVEMENT_PARAMETERS + ACTIVATION_PARAMETERS
     name = "movement_induced_depression"
     suffix = "ExtMovement"
     namespace = "movement_induced_depression"
@@ -81,7 +86,7 @@ class MovementInducedDepression(Extension):
     @staticmethod
     def reference_modulation(values: Mapping[str, float], spikes_ms: np.ndarray) -> StateModulation:
         """The same equations for the SciPy reference: the clock integrated with Modules 1-3, driving C1_shift."""
-        from ...reference import StateModulation
+        from .twin import StateModulation
 
         k, t50, width, trec, v0 = (float(values[n]) for n in ("k", "t50", "width", "trec", "v0"))
 

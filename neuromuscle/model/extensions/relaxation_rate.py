@@ -1,4 +1,4 @@
-"""Extension "relaxation_rate": Ca2+ removal changes with recent activity (mod/ext_relaxation.mod).
+"""Extension "relaxation_rate": Ca2+ removal changes with recent activity (mod/ExtRelaxation.mod).
 
 Equations (ms, per spike): an activity state X is 0 at rest, every spike raises it, X -> X + d (1 - X), and it
 decays, dX/dt = -X/tau; KimCa's pump U (eq 4) is multiplied by gain = 1 - k X.  So the pump at rest, and late in a
@@ -17,17 +17,15 @@ Neutral: k = 0.  Bounds:
   ~1 s, and named seed 4's staircase relaxation_rate.
 - d in [0.02, 1] per spike: at 0.02 a 1 s train at 100 Hz raises X to ~0.5 with tau = 500 ms.
 Defaults (the fits' start): k 0.3, tau 300 ms, d 0.1, so a twitch raises X to 0.1, a 20 Hz train to ~0.42 and a
-100 Hz one to ~0.77.  (With tau 200 ms and d 0.3 as the defaults, and stop 34's first hidden form, suite seed 1's
-relaxation preparation screened fourth, behind PAP by 23 noise variances, and was left unfitted.)
+100 Hz one to ~0.77.
 
-Until stop 34 the gain was 1 + k W, W = 1 - X, with d = 1 (the pump changed late after each spike): the same
-family up to a factor on the pump, but the candidates' fits do not refit Umax, and that form's default (k = 0.5)
-started every fit with the pump 1.5x faster at rest; on data with the removal slowed after trains (synth's hidden
-effect since stop 34) the fit did not recover in ten iterations (calibration chi2 2762 above the reference's).
-Until stop 21 this extension was two constant factors, on the pump and on tau_A.  Both were calibration, not a
-cause: a constant factor on tau_A is Module 2's C3, refitted by the reference and by every candidate's fit, and a
-constant factor on the pump is Module 1's Umax, which synth moves by ~20 % in every preparation (suite seed 1's
-null was named relaxation_rate for 142 noise variances of such misfit).
+Why this form: the gain is anchored at rest (1 - k X, X = 0 at rest), because the candidates' fits do not refit Umax
+and a form that moved the resting pump (1 + k W, W = 1 - X) started every fit with the pump off its calibrated rate
+and did not recover within the fit's iterations on data whose removal slows after trains.  Two constant factors, on
+the pump and on tau_A, would be calibration, not a cause: a constant factor on tau_A is Module 2's C3, refitted by
+the reference and by every candidate's fit, and a constant factor on the pump is Module 1's Umax, which synth moves
+by ~20 % in every preparation (suite seed 1's null was named relaxation_rate for 142 noise variances of such
+misfit).
 """
 
 from __future__ import annotations
@@ -37,7 +35,7 @@ from typing import Callable, Mapping
 import numpy as np
 
 from ..component import Param, State
-from . import Extension
+from . import Extension, Telling
 from .spike_trace import SpikeTrace
 
 _SRC = ("relaxation bounds: SERCA pump rate ~3x between fast and slow fibres and over 10 degC (Q10 ~ 2-3); "
@@ -49,6 +47,9 @@ class RelaxationRate(Extension):
     """The model relaxes slower or faster than the data: the SR pump times 1 - k X, X an activity state raised by
     the fraction d at each spike and decaying with tau."""
 
+    shows = "the model relaxes slower or faster than the data"
+    telling = Telling("any isometric trial with a relaxation after its last stimulus", moving=False)
+    variable = "time_since_last_stimulus"
     name = "relaxation_rate"
     suffix = "ExtRelaxation"
     namespace = "relaxation_rate"

@@ -1,6 +1,8 @@
+TITLE Hatze's triceps surae muscle-tendon complex in angular coordinates (van Zandwijk et al. 1998)
+
 COMMENT
-Hatze's triceps surae muscle-tendon complex (MTC) in angular coordinates (seed 000, section 2.1.1;
-spec/hatze_model.md "Contraction"), the NEURON twin of neuromuscle/hatze/contraction.py (same equations).
+Hatze's triceps surae muscle-tendon complex (MTC) in angular coordinates (van Zandwijk et al. 1998, section 2.1.1;
+docs/reference/hatze.md), the NEURON twin of neuromuscle/hatze/contraction.py (same equations).
 
 A contractile element (CE) in parallel with a PEE, in series with an SEE; "lengths" are angles (rad), moments
 N m, angular velocities rad/s, and the model's time is in SECONDS (NEURON's t is in ms).
@@ -8,11 +10,11 @@ N m, angular velocities rad/s, and the model's time is in SECONDS (NEURON's t is
     M_iso(phi_ce) = Mmax (1 - ((phi_ce/phi_ce_opt - 1)/w)^2), clipped at 0           (moment-angle parabola)
     F0 = q M_iso(phi_ce),  q = act (POINTER, the active state)                      (q enters only here)
     shortening, M <= F0 (eq 1):  omega_ce = (F0 - M) b/(M + a),  a = a_rel Mmax, b = b_rel phi_ce_opt
-    lengthening, M > F0 (not in the seed; Van Soest & Bobbert 1993 eccentric hyperbola): with D = M - F0,
+    lengthening, M > F0 (not in the paper; Van Soest & Bobbert 1993 eccentric hyperbola): with D = M - F0,
         r = D/(0.5 F0), v = -omega_ce = b_e r/(1 - r), b_e = F0 b/(4 (F0 + a)) (asymptote 1.5 F0, slope
         dM/dv at v = 0 twice the concentric one); from r = 0.8 on v continues linearly in M (C1).
     SEE (eq 2):  M_see = k_see e^2 for e > 0, else 0;  e = phi_mtc_offset + e_test + phi_ce_opt - phi_ce
-    PEE:         M_pee = k_pee (phi_ce - phi_pee0_rel phi_ce_opt)^2 beyond its slack (k_pee = 0 in the seed)
+    PEE:         M_pee = k_pee (phi_ce - phi_pee0_rel phi_ce_opt)^2 beyond its slack (k_pee = 0 in the paper)
     SEE slack:   CE at phi_ce_opt exerting Mmax (+ PEE there) when the MTC is at the test angle (ankle 100 deg):
                  e_test = sqrt((Mmax + M_pee(phi_ce_opt))/k_see), computed here in INITIAL (as
                  contraction.see_extension_at_test); the MTC angle enters only through its offset from the test
@@ -26,8 +28,8 @@ Coupling: POINTER act -> active state q (1): HatzeExc.A (eq 9) or Kim's KimAct.A
           and point POINTER xi_exc at HatzeExc.xi; HatzeMTC then writes xi = phi_ce/phi_ce_opt there in INITIAL
           and after every state evaluation.  HatzeExc (registered before HatzeMTC) therefore uses xi from the
           previous evaluation: a lag of one step (fixed) or one right-hand side evaluation (CVODE).  With
-          xi_feedback = 0 (default) xi_exc is never written; unused, it points at this mechanism's own RANGE
-          xi_sink (neuromuscle.model.hatze does this), never left NULL.
+          xi_feedback = 0 (default) xi_exc is never written and need not be set (neuromuscle.model.hatze points
+          it at this mechanism's own RANGE xi_sink); with xi_feedback = 1 it must point somewhere.
 Outputs:  M (Nm, MTC = SEE moment), phi_ce (rad, state), omega_ce (rad/s), F0 (Nm), e_test (rad),
           nbad (count of evaluations with M <= -a, where Hill's equation is singular; the denominator is then
           held at 1e-6 a -- only possible with a PEE pulling the CE, never with k_pee = 0).
@@ -42,6 +44,8 @@ ENDCOMMENT
 NEURON {
     POINT_PROCESS HatzeMTC
     THREADSAFE
+    : 1 while NEURON integrates with CVODE (set at every finitialize by the package; from hoc: variable_step_<name> = 1)
+    GLOBAL variable_step
     RANGE k_see, phi_ce_opt, Mmax, a_rel, b_rel, w, k_pee, phi_pee0_rel, phi_mtc_offset, xi_feedback
     RANGE M, omega_ce, F0, e_test, nbad, noeq, xi_sink
     POINTER act, xi_exc
@@ -64,6 +68,7 @@ PARAMETER {
     phi_mtc_offset = 0 (1)
     xi_feedback = 0 (1)
     xi_sink = 1 (1)
+    variable_step = 0 (1)
 }
 
 ASSIGNED {
@@ -125,7 +130,7 @@ BREAKPOINT {
 
 DERIVATIVE states {
     rhs(phi_ce)
-    if (cvode_on()) {
+    if (variable_step) {
         bb = -jac
         aa = fr + bb*phi_ce
     } else {
@@ -178,7 +183,7 @@ FUNCTION eqres(phi (1), top (1)) (Nm) {
 }
 
 PROCEDURE feed_xi() {
-    if (xi_feedback && nrn_pointing(xi_exc)) {
+    if (xi_feedback) {
         xi_exc = phi_ce/phi_ce_opt
     }
 }
@@ -260,5 +265,3 @@ PROCEDURE rhs(phi (1)) {
     fr = -om/(1000)
     jac = -(om_m*dm + om_f0*df0)/(1000)
 }
-
-INCLUDE "cvode_on.inc"

@@ -6,11 +6,12 @@
     unit = MuscleUnit(p, extensions={"fatigue": {}})                  # any catalogue extension, by name
     unit = MuscleUnit(p, excitation=kim_fused())                      # Modules 1-3 in one mechanism (faster)
 
-A component that both receives spikes and has an output (KimUnit, ``kim_fused``) is a whole muscle model: it is
-given as ``excitation`` with no ``contraction``.  Each slot holds one component ("length", "ca", "act", "force", and one per extension).  Every POINTER of every
-component is wired at construction: to the variable its port names ("act.A"), to an extension that targets it,
-or, for an unused modulation port, to the mechanism's own neutral value.  ``connect_from`` takes spikes from any
-NetCon source, ``add_spike_times`` from a recording; ``destroy()`` (or ``with``) removes everything from NEURON.
+A component that both receives spikes and has an output (KimUnit, ``kim_fused``) is a whole muscle model: it is given as
+``excitation`` with no ``contraction``.  Each slot holds one component ("length", "ca", "act", "force", and one per
+extension).  Every POINTER of every component is wired at construction: to the variable its port names ("act.A"), to an
+extension that targets it, or, for an unused modulation port, to the mechanism's own neutral value.  ``connect_from``
+takes spikes from any NetCon source, ``add_spike_times`` from a recording; ``destroy()`` (or ``with``) removes
+everything from NEURON.
 """
 
 from __future__ import annotations
@@ -21,13 +22,15 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 from ..errors import InputError
+from ..model.combine import PortCombine
+from ..model.component import Component
+from ..model.extensions import Extension, make_extensions
+from ..model.hatze import hatze_contraction, hatze_excitation
+from ..model.kim import kim_contraction, kim_excitation
+from ..model.length import MuscleLength
+from ..model.mechanisms import load_mechanisms
+from ..parameters import ParameterSet
 from ..validate import check_spike_times
-from .component import Component
-from .extensions import Extension, make_extensions
-from .hatze import hatze_contraction, hatze_excitation
-from .kim import kim_contraction, kim_excitation
-from .length import MuscleLength
-from .mechanisms import load_mechanisms
 
 #: Models selectable by name (the CLI's --excitation/--contraction); anything else is passed as components.
 EXCITATIONS = {"kim": kim_excitation, "hatze": hatze_excitation}
@@ -35,7 +38,7 @@ CONTRACTIONS = {"kim": kim_contraction, "hatze": hatze_contraction}
 
 Model = Mapping[str, Component] | str | None
 
-#: How a unit starts: its resting steady state at the initial length, or seed 001's published initial state.
+#: How a unit starts: its resting steady state at the initial length, or the published initial state of Kim et al. 2015.
 INITIAL_STATES = {"rest": 1.0, "published": 0.0}
 
 
@@ -62,15 +65,13 @@ class MuscleUnit:
     length_source: a MuscleLength hoc object to share (one per rank in a pool); a private one if None.
     section: the NEURON section hosting the point processes; a private one-segment section if None.
     initial_state: "rest" (default: every mechanism starts at its resting steady state at the initial length,
-    so nothing creeps before the first spike) or "published" (seed 001's initial state: all SR calcium free,
+    so nothing creeps before the first spike) or "published" (the initial state of Kim et al. 2015: all SR calcium free,
     Atil = 0, no force; it settles within ~100 ms: the spec's "unsettled twitch" reference).
     """
 
     def __init__(self, params: Mapping[str, float], *, excitation: Model = None, contraction: Model = None,
                  extensions: Mapping[str, Mapping[str, float]] | None = None, length_source: Any = None,
                  section: Any = None, name: str = "unit", initial_state: str = "rest") -> None:
-        from ..parameters import ParameterSet
-
         if not isinstance(params, ParameterSet):
             raise InputError(f"{name}: params must be a ParameterSet (see load_parameters), got {type(params)}")
         load_mechanisms()
@@ -116,7 +117,7 @@ class MuscleUnit:
             self._check_complete(comp)
             comp.instantiate(seg, params)
             self.components[slot] = comp
-        self._wire(exts)
+        self._wire(exts, seg)
         for ext in exts.values():
             ext.attach(self.components, params)  # a switch extension turns its baseline equation on
         if initial_state not in INITIAL_STATES:
@@ -138,14 +139,13 @@ class MuscleUnit:
                 raise InputError(f"parameter set {self.params.name!r} lacks {', '.join(missing)} "
                                  f"(needed by {type(comp).__name__})")
 
-    def _wire(self, exts: Mapping[str, Extension]) -> None:
-        driven: dict[str, str] = {}
+    def _wire(self, exts: Mapping[str, Extension], seg: Any) -> None:
+        sources: dict[str, list[str]] = {}
         for slot, ext in exts.items():
             for port, var in ext.targets.items():
-                if port in driven:
-                    raise InputError(f"{self.name}: port {port} is driven by two extensions ({driven[port]} and "
-                                     f"{slot}); combine them in one extension")
-                driven[port] = f"{slot}.{var}"
+                sources.setdefault(port, []).append(f"{slot}.{var}")
+        combiners: dict[str, Component] = {}
+        driven = {port: self._combined(port, srcs, seg, combiners) for port, srcs in sources.items()}
         for slot, comp in self.components.items():
             modulated = False
             for port in comp.reads:
@@ -154,19 +154,43 @@ class MuscleUnit:
                     src_slot, _, src_var = str(port.source).partition(".")
                     has = src_slot in self.components and src_var in self.components[src_slot].recordables()
                     setattr(comp.obj, f"_ref_{port.name}", self.ref(port.source) if has else comp.ref(port.neutral))
+                    if port.enables:
+                        setattr(comp.obj, port.enables, 1.0 if has else 0.0)
                     continue
                 # a modulation port counts as driven when an extension targets it or its component names a source
                 modulated |= key in driven or (port.neutral is not None and port.source is not None)
                 source = driven.pop(key, port.source)
                 if source is None:
                     ref = comp.ref(port.neutral)  # an unused modulation port: the mechanism's neutral value
-                else:
+                elif isinstance(source, str):
                     ref = self.ref(source)
+                else:
+                    ref = source  # a PortCombine's output
                 setattr(comp.obj, f"_ref_{port.name}", ref)
             if modulated:
                 comp.obj.use_ports = 1.0  # the mechanism reads its ports only when something drives one
         if driven:
             raise InputError(f"{self.name}: extension targets {sorted(driven)} name no port of this unit")
+        self.components.update(combiners)
+
+    def _combined(self, port: str, sources: list[str], seg: Any, combiners: dict[str, Component]) -> Any:
+        """What drives ``port``: its one source ("slot.variable"), or the NEURON reference to the output of a
+        chain of PortCombine mechanisms (gains multiply, offsets add) over several (two extensions on one port),
+        each added to ``combiners``."""
+        if len(sources) == 1:
+            return sources[0]
+        slot, _, name = port.partition(".")
+        comp = self.components.get(slot)
+        unit = next((p.unit for p in comp.reads if p.name == name), "1") if comp is not None else "1"
+        out = self.ref(sources[0])
+        for k, src in enumerate(sources[1:], 1):
+            c = PortCombine(unit)
+            c.instantiate(seg, None)
+            c.obj._ref_a = out
+            c.obj._ref_b = self.ref(src)
+            combiners[f"{slot}_{name}_combine{k}"] = c
+            out = c.ref("out")
+        return out
 
     # -- access --------------------------------------------------------------------------------------------
     def __getattr__(self, slot: str) -> Any:
@@ -255,7 +279,7 @@ class MuscleUnit:
             comp.destroy()
         self._netcons.clear()
 
-    def __enter__(self) -> "MuscleUnit":
+    def __enter__(self) -> MuscleUnit:
         return self
 
     def __exit__(self, *exc: object) -> None:

@@ -1,5 +1,7 @@
+TITLE Hatze's first-order trend model of the free calcium (van Zandwijk et al. 1998)
+
 COMMENT
-Hatze's first-order trend model of the free calcium (seed 000, eq 10; spec/hatze_model.md), an excitation model
+Hatze's first-order trend model of the free calcium (van Zandwijk et al. 1998, eq 10; docs/reference/hatze.md), an excitation model
 driven by a stimulation rate instead of individual spikes:
     dgamma/dt_s = m (c nu - gamma),   nu = stimulation rate / 100 Hz   (t_s in seconds; NEURON's t is ms)
     A = q(gamma, xi) of eq 9 with theta5 (same form as HatzeExc)

@@ -1,5 +1,7 @@
+TITLE Model extension post_activation_potentiation: release and tau_A raised after high-rate activity
+
 COMMENT
-Model extension "post_activation_potentiation" (shared/spec/diagnosis.md: after activity, twitches grow and
+Model extension "post_activation_potentiation" (a cause of the diagnosis catalogue: after activity, twitches grow and
 relaxation slows): one slow potentiation state P (1) that high-rate activity raises and that decays over tens of
 seconds; it raises the Ca2+ release and lengthens Module 2's time constant tau_A.  Potentiation (myosin light
 chain phosphorylation by Ca2+-calmodulin-dependent kinase) needs Ca2+ that stays high: a conditioning tetanus
@@ -15,10 +17,9 @@ Equations (units: k_rel 1, k_tau 1, u 1 per spike, tau ms, tau_f ms, t ms):
     tgain = 1 + k_tau P                           drives KimAct's tauA_gain port: tau_A = tgain C3 / cosh(...)
 P and F stay in [0, 1).  With k_rel = k_tau = 0 (their neutral values) both gains are exactly 1: the unit is
 bit-identical to the baseline.
-Until stop 23 every spike raised P by u whatever the rate: the extension potentiated low-rate trains as much as a
-tetanus, and on suite seed 1's potentiation data (a hidden effect that only intervals under ~15 ms build) the
-doublet extension, which is rate-selective, fitted better and was named.  synth's hidden form is a sixth-order
-Hill function of the interval, summed with a 40 s leak and saturated exponentially (docs/synth.md).
+The build per spike is rate-selective: an extension that every spike built whatever the interval would
+potentiate low-rate trains as much as a tetanus.  synth's hidden form is a sixth-order
+Hill function of the interval, summed with a 40 s leak and saturated exponentially (docs/guide/synth.md).
 Bounds (neuromuscle/model/extensions/post_activation_potentiation.py): k_rel in [0, 2], k_tau in [0, 1.5],
 u in [0.001, 0.5], tau in [5, 600] s, tau_f in [2, 100] ms.
 Coupling: receives the unit's spikes (NET_RECEIVE); exposes RANGE gain (1) for POINTER KimCa.release_gain and

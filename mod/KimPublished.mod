@@ -1,3 +1,5 @@
+TITLE Kim, Sandercock & Heckman 2015, Modules 1-2 integrated as the published code does (benchmark only)
+
 COMMENT
 Modules 1-2 of Kim, Sandercock & Heckman 2015 integrated the authors' way, for benchmarks only.
 

@@ -1,6 +1,8 @@
+TITLE Model extensions force enhancement after stretch and force depression after shortening
+
 COMMENT
 Model extensions "force_enhancement_after_stretch" (sgn = 1) and "force_depression_after_shortening" (sgn = -1)
-(shared/spec/diagnosis.md: force after an active stretch stays above, after active shortening below, the
+(a cause of the diagnosis catalogue: force after an active stretch stays above, after active shortening below, the
 isometric force at the same length): a history-dependent element in parallel with Module 3's CE-SE.
 
 A state D (1) integrates the muscle's lengthening (sgn = 1) or shortening (sgn = -1), weighted by the force the

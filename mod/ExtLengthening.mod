@@ -1,16 +1,18 @@
+TITLE Model extension lengthening_below_optimum: less Ca2+ release while lengthening below the optimum
+
 COMMENT
-Model extension "lengthening_below_optimum" (shared/spec/diagnosis.md: excess model force while lengthening below
+Model extension "lengthening_below_optimum" (a cause of the diagnosis catalogue: excess model force while lengthening below
 the optimum): while the muscle lengthens at or below its optimal length, the Ca2+ release falls, by a fraction
 that saturates exponentially with the lengthening velocity.  It acts where eq 18 does (Module 1, on Ca2+), not on
 A as eq 20 does: a loss of Ca2+ matters at low stimulation rates and little in a fused tetanus, where the
-troponin is saturated, as the seed says of the error it compensates ("more predominant for low frequencies
+troponin is saturated, as Kim, Sandercock & Heckman 2015 say of the error it compensates ("more predominant for low frequencies
 (<= 20 Hz) when the length was shorter than the optimal muscle length during lengthening").
 Equations (units: k 1, v0 mm/s, tau_on ms, Xm and xopt mm, Vm mm/s positive = lengthening, t ms):
     target = k (1 - exp(-Vm/v0))      if Xm <= xopt and Vm > 0
            = 0                        otherwise
     dE/dt  = (target - E) / tau_on                (E in [0, k]: the depression follows the gate within tau_on)
     gain   = 1 - E                                drives KimCa's release_gain port: R = gain [CaSR] Rmax (S2 - S12)
-synth's hidden lengthening effect is a hyperbolic velocity term under a logistic length gate (docs/synth.md); this
+synth's hidden lengthening effect is a hyperbolic velocity term under a logistic length gate (docs/guide/synth.md); this
 is an exponential saturation under a hard gate at the optimum, smoothed in time by tau_on.
 With k = 0 (its neutral value) the target is exactly 0, E stays 0 and gain is exactly 1: the unit is bit-identical
 to the baseline.  Isometric trials (Vm = 0): gain exactly 1 whatever k.

@@ -1,5 +1,7 @@
+TITLE Muscle length and velocity input shared by the muscle mechanisms of one muscle
+
 COMMENT
-Muscle length input shared by the muscle mechanisms of one muscle (seed 001, Module 3 input).
+Muscle length input shared by the muscle mechanisms of one muscle (Kim, Sandercock & Heckman 2015, Module 3's input).
 
 RANGE xm (mm): muscle length relative to the physiological maximum (0 mm); negative is shorter.
 RANGE vm (mm/s): its velocity, positive = lengthening.

@@ -153,7 +153,8 @@ def test_movement_compensation_lowers_force_while_lengthening_below_optimum(ct09
 
 def test_length_compensation_switch(ct09):
     on = simulate(ct09, twitch(100.0), -16.0, 400.0).force_N.max()
-    off = simulate(ct09, twitch(100.0), -16.0, 400.0, excitation=kim_excitation(length_compensation=False)).force_N.max()
+    off = simulate(ct09, twitch(100.0), -16.0, 400.0,
+                   excitation=kim_excitation(length_compensation=False)).force_N.max()
     assert on < off  # phi(-16) = 0.75 slows troponin binding
 
 
@@ -205,7 +206,7 @@ def test_units_spread_over_sections_run_on_two_threads_with_identical_results(ct
 
 @pytest.mark.parametrize("method", ["fixed", "cvode"])
 def test_a_unit_starts_at_rest_and_the_published_start_is_kept_on_request(ct09, method):
-    """No creep before the first stimulus: force, Atil and the Ca states stay at their t = 0 values; the seed's
+    """No creep before the first stimulus: force, Atil and the Ca states stay at their t = 0 values; the paper's
     published initial state (all SR calcium free) still gives the spec's unsettled twitch."""
     names = ("force.F", "act.atil", "ca.CaSR", "ca.CaSRCS", "ca.CaSPT")
     rest = simulate(ct09, [300.0], -8.0, 600.0, method=method, record=names)

@@ -1,5 +1,7 @@
+TITLE Model extension fatigue: depletion of the releasable Ca2+ over long high-rate trains
+
 COMMENT
-Model extension "fatigue" (shared/spec/diagnosis.md: force declines over long high-rate trains): a slow
+Model extension "fatigue" (a cause of the diagnosis catalogue: force declines over long high-rate trains): a slow
 depletion of the releasable Ca2+, as a state D (1) that every spike raises and that recovers exponentially.
 
 Equations (units: k 1 per spike, tau_rec ms, t ms):

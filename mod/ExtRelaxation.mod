@@ -1,5 +1,7 @@
+TITLE Model extension relaxation_rate: the SR pump's speed changing with recent activity
+
 COMMENT
-Model extension "relaxation_rate" (shared/spec/diagnosis.md: the model relaxes slower or faster than the data; the
+Model extension "relaxation_rate" (a cause of the diagnosis catalogue: the model relaxes slower or faster than the data; the
 re-uptake adjustment): the SR pump (eq 4) changes its speed with recent activity.  An activity state X (1) is 0 at
 rest, every spike raises it by the fraction d of what is left to 1, and it decays with time constant tau; the pump
 is multiplied by 1 - k X.  So the pump at rest, and in the late relaxation of a lone twitch, is the model's own
@@ -15,11 +17,9 @@ early after each spike and back to the model's late in the relaxation.  With d <
 d and a high-rate train towards 1, so the change grows with the recent spike count and outlasts a train by ~tau:
 no constant Module 1 parameter gives that (a constant factor on the pump is Umax).  After one spike at t0,
 X = d exp(-(t - t0)/tau).  synth's hidden relaxation effect is another form: the pump divided by 1 + a L, L a
-first-order Hill function of a leaky spike count (docs/synth.md).
-Until stop 34 the form was gain = 1 + k W with W = 1 - X and d = 1: the same family up to a factor on the pump, but
-the diagnosis's candidate fits do not refit Umax, so that form's default (k = 0.5) started every fit with the pump
-1.5x faster at rest and it did not recover in ten iterations.  Until stop 21 it was two constant factors (on the
-pump and on tau_A): calibration, not a cause (a factor on tau_A is Module 2's C3, refitted anyway).
+first-order Hill function of a leaky spike count (docs/guide/synth.md).
+The pump at rest is the model's own (Umax keeps its meaning), and a constant factor on the pump or on tau_A would be
+calibration, not a cause (Umax; Module 2's C3).
 With k = 0 (its neutral value) gain is exactly 1: the unit is bit-identical to the baseline.
 Bounds (neuromuscle/model/extensions/relaxation_rate.py): k in [-2, 0.95], tau in [5, 500] ms, d in [0.02, 1].
 Coupling: receives the unit's spikes (NET_RECEIVE); exposes RANGE gain (1) for POINTER KimCa.uptake_gain.  KimCa

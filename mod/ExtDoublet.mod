@@ -1,5 +1,7 @@
+TITLE Model extension doublet_potentiation: release amplified after short inter-spike intervals
+
 COMMENT
-Model extension "doublet_potentiation" (shared/spec/diagnosis.md: extra force after short inter-spike intervals,
+Model extension "doublet_potentiation" (a cause of the diagnosis catalogue: extra force after short inter-spike intervals,
 5-15 ms): a fast facilitation F (1) left by each spike for a few ms; a spike that arrives while F is up has its
 release amplified, through a held gain H (1) that lasts about as long as one spike's release.
 

@@ -1,11 +1,13 @@
+TITLE Model extension staircase: twitch amplitude changing over successive stimuli at low rates
+
 COMMENT
-Model extension "staircase" (shared/spec/diagnosis.md: twitch amplitude changes over successive stimuli at low
+Model extension "staircase" (a cause of the diagnosis catalogue: twitch amplitude changes over successive stimuli at low
 rates, negative or positive): a slow state S (1) that spikes at low rates build up and that decays between
 spikes, scaling the Ca2+ release by 1 + k S.  The sign of k gives a positive (k > 0) or a negative (k < 0)
 staircase.  A spike builds S in proportion to (1 - F)^3, F (1) a fast trace of the earlier spikes: F =
 exp(-ISI/tau_f) after one spike, so a spike that follows its predecessor closely (a tetanus) adds next to nothing
 and one after a long interval (a low-rate train) adds u.  The staircase is the catalogue's low-rate cause;
-potentiation by high-rate firing is post_activation_potentiation's (mod/ext_pap.mod, whose build-up is the
+potentiation by high-rate firing is post_activation_potentiation's (mod/ExtPAP.mod, whose build-up is the
 counterpart, u F).
 
 Equations (units: k 1, u 1 per spike, tau ms, tau_f ms, t ms):
@@ -17,11 +19,9 @@ Equations (units: k 1, u 1 per spike, tau ms, tau_f ms, t ms):
 S and F stay in [0, 1).  A train at period T >> tau_f settles at S = u / (1 - (1 - u) exp(-T/tau)) just after
 each spike: the staircase saturates at gain 1 + k for tau_f << T << tau and vanishes for T >> tau and for
 T << tau_f.  The cube makes the interval gate steep: at tau_f = 40 ms (the lower bound) a 100 Hz interval builds
-1 % of a lone spike's u, a 20 Hz one 36 % and a 10 Hz one 77 %.  From stop 24 to stop 36 the build was u (1 - F)
-(1 - S) with tau_f down to 2 ms, where every interval over ~20 ms built S fully: fits could make the staircase a
-potentiation built by tetani, which took synth's hidden relaxation effect (neuromuscle/model/extensions/
-staircase.py).  Before stop 24 every spike built S whatever the rate: a fit to a low-rate staircase then also raised
-the release of the unfused 20-40 Hz trains, where force follows release closely.
+1 % of a lone spike's u, a 20 Hz one 36 % and a 10 Hz one 77 %.  A shallower gate would let a fit make the
+staircase a potentiation built by tetani (post_activation_potentiation's), and one that every spike passed would
+raise the release of unfused 20-40 Hz trains, where force follows release closely.
 With k = 0 (its neutral value) gain is exactly 1: the unit is bit-identical to the baseline.
 Bounds (neuromuscle/model/extensions/staircase.py): k in [-0.6, 1], u in [0.005, 0.5], tau in [0.5, 120] s,
 tau_f in [40, 200] ms.

@@ -1,12 +1,14 @@
+TITLE Model extension movement_induced_depression: Ca2+ sensitivity falling on a movement clock
+
 COMMENT
-Model extension "movement_induced_depression" (shared/spec/diagnosis.md: force sinks progressively during movement
-at low rates): the Ca2+ sensitivity of activation falls on seed 001's eq 19 time course, on a movement clock that
+Model extension "movement_induced_depression" (a cause of the diagnosis catalogue: force sinks progressively during movement
+at low rates): the Ca2+ sensitivity of activation falls on the eq 19 time course of Kim, Sandercock & Heckman 2015, on a movement clock that
 runs while the muscle moves and runs down at rest.
-    eq 19 (the seed):  alpha(t) = alpha + alpha1 (1 + tanh((t - alpha2)/alpha3)),  t on a movement clock
-Two departures from eq 19, each measured on the diagnosis suite (docs/extensions.md, docs/diagnosis.md stop 41):
-  - the clock.  The seed's counts the time since the movement onset and never stops, so its depression deepens
+    eq 19 (Kim et al. 2015):  alpha(t) = alpha + alpha1 (1 + tanh((t - alpha2)/alpha3)),  t on a movement clock
+Two departures from eq 19, each measured on the diagnosis suite (docs/reference/extensions.md):
+  - the clock.  The paper's clock counts the time since the movement onset and never stops, so its depression deepens
     through every hold that follows a movement (the authors' own code applied eq 19 only while the length was
-    accelerating: shared/spec/kim2015_model.md).  Here c (ms) counts time spent moving, at a rate that saturates
+    accelerating: docs/reference/kim2015.md).  Here c (ms) counts time spent moving, at a rate that saturates
     with speed, and decays at rest with a fitted time constant trec;
   - what falls.  A rising exponent (A = Atil^alpha(t)) also speeds the relaxation after the last stimulus, where
     Atil decays (A/Atil^alpha = Atil^(alpha(t) - alpha) -> 0): fitted to movement data it left the end of every
@@ -19,10 +21,10 @@ Equations (t ms):
     D      = (tanh((c - t50)/width) - tanh(-t50/width)) / (1 - tanh(-t50/width))     (1: 0 at c = 0, -> 1)
     shift  = k D        -> KimAct: Atil_inf = 0.5 (1 + tanh((x - C1 - shift)/C2))
 D is exactly 0 before the first movement and in isometric trials, so no onset is needed and nothing jumps (CVODE
-sees continuous rates).  Moving steadily at Vm the clock runs at m ms/ms (1 ms/ms, as the seed's clock, well above
+sees continuous rates).  Moving steadily at Vm the clock runs at m ms/ms (1 ms/ms, as the paper's clock, well above
 v0) towards its ceiling (Vm/v0)^2 trec: a slow movement depresses later and less than a fast one; held still, c
 decays as exp(-t/trec) and the depression recovers.
-synth's hidden movement effect (docs/synth.md) is a loss of Ca2+ release, 1 - a m, with m a saturating state
+synth's hidden movement effect (docs/guide/synth.md) is a loss of Ca2+ release, 1 - a m, with m a saturating state
 driven by the distance moved (|v|/20 mm) that recovers with 2 s: a different mechanism (SR release, Module 1; here
 the myofilaments' sensitivity, Module 2) and a different form (driven by distance, not by time spent moving through
 a sigmoid).
@@ -34,7 +36,7 @@ Coupling: POINTER vm -> MuscleLength's velocity (mm/s).  Exposes RANGE shift (1)
 and m.
 Numerics: c' is linear in c with Vm frozen over the step: METHOD cnexp (exact then) in fixed step; CVODE
 integrates the same DERIVATIVE.  shift is computed after c's update (the step's end value), before KimAct reads it
-(ext_* mechanisms are registered before kim_*).  O(1) per step, THREADSAFE.
+(Ext* mechanisms are registered before kim_m*: their file names sort first).  O(1) per step, THREADSAFE.
 ENDCOMMENT
 
 NEURON {

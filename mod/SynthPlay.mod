@@ -1,3 +1,5 @@
+TITLE Played modulation for synthetic data (no equations: played values only)
+
 COMMENT
 Played modulation for synthetic data (neuromuscle.synth): the hidden effect of a synthetic preparation, computed
 beforehand in Python as time series and played into this mechanism's RANGE variables by NEURON's Vector.play

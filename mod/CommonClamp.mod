@@ -1,3 +1,5 @@
+TITLE A current clamp whose amplitude is shared by every instance
+
 COMMENT
 A current clamp whose amplitude is one value shared by every instance: i = gain * amp (nA), with amp a GLOBAL.
 A pool's common current is then one Vector.play (into amp) instead of one per motoneuron, and each clamp costs

@@ -1,5 +1,7 @@
+TITLE Hatze's excitation dynamics (van Zandwijk, Bobbert, Harlaar & Hof 1998; Hatze 1977)
+
 COMMENT
-Hatze's excitation dynamics (seed 000, Appendix eqs 6-9; spec/hatze_model.md): an excitation model that can take
+Hatze's excitation dynamics (van Zandwijk, Bobbert, Harlaar & Hof 1998, Appendix eqs 6-9; docs/reference/hatze.md): an excitation model that can take
 the place of Modules 1-2 (KimCa + KimAct) in front of Module 3 (KimForce reads A through POINTER act).
 
 Equations, with time t_s in SECONDS as in the seed (NEURON's t is in ms: t_s = t/1000):
@@ -22,6 +24,8 @@ ENDCOMMENT
 NEURON {
     POINT_PROCESS HatzeExc
     THREADSAFE
+    : 1 while NEURON integrates with CVODE (set at every finitialize by the package; from hoc: variable_step_<name> = 1)
+    GLOBAL variable_step
     RANGE theta1, theta2, theta3, theta4, theta5, q0, rho2, xicheck, s, xi
     RANGE A, alpha, noverlap
 }
@@ -37,6 +41,7 @@ PARAMETER {
     xicheck = 2.90 (1)
     s = 1.0 (1)
     xi = 1.0 (1)
+    variable_step = 0 (1)
 }
 
 ASSIGNED {
@@ -77,7 +82,7 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
-    if (cvode_on()) {
+    if (variable_step) {
         alpha = drive(t)
         ab = vb/(1000)
         a2 = (alpha - theta2*b)/(1000)
@@ -107,7 +112,7 @@ FUNCTION drive(tt (ms)) {
 }
 
 PROCEDURE trapezoid_step(h (ms)) {
-    : trapezoidal rule for z' = M z + input on the two 2x2 blocks, in the seed's seconds (hs = h in s).  The
+    : trapezoidal rule for z' = M z + input on the two 2x2 blocks, in the paper's seconds (hs = h in s).  The
     : new values are handed to METHOD euler as increments per ms (ab, a2, ag, a4): no state is assigned here.
     LOCAL hs, k, u, r1, r2, det, bn, vbn, gn, vgn, bm
     hs = (0.001)*h
@@ -135,8 +140,6 @@ PROCEDURE trapezoid_step(h (ms)) {
 }
 
 INCLUDE "hatze_active_state.inc"
-
-INCLUDE "cvode_on.inc"
 
 NET_RECEIVE(w) {
     if (flag == 0) {

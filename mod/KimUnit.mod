@@ -1,0 +1,180 @@
+TITLE Kim, Sandercock & Heckman 2015, Modules 1-3 in one mechanism: spikes to Ca2+ to activation to force (KimUnit)
+
+COMMENT
+The three modules of Kim, Sandercock & Heckman 2015 in one mechanism: spikes -> Ca2+ -> activation -> force.
+
+The equations and their arithmetic are those of KimCa (kim_m1_calcium.mod, eqs 1-7, 18), KimAct
+(kim_m2_activation.mod, eqs 8, 19-20) and KimForce (kim_m3_force.mod, eqs 9-12): this file INCLUDEs the same
+kim_m1_calcium.inc, kim_m2_activation.inc and kim_m3_force.inc, so the fixed step gives the three mechanisms'
+numbers bit for bit (tests/model/test_fused.py) and CVODE sees the same right-hand side and the same diagonal
+Jacobian.  What is gone is the overhead around the arithmetic: no POINTERs between the modules (one read of the
+length per step), one per-instance loop instead of three, no Jacobian loops, the shared parameters read directly.
+Read the three files' headers for the equations, units and numerics; only what differs is written here.
+
+Coupling: POINTER xm, vm -> muscle length (mm) and velocity (mm/s) of a MuscleLength point process (one per rank
+in a pool).  No modulation ports: model extensions need the three mechanisms (the Python wiring refuses them).
+Spikes: NET_RECEIVE with weight w, as KimCa.
+
+Order within a step, as NEURON runs the three mechanisms (KimCa, KimAct, KimForce are registered in that order):
+Module 1 with the previous step's Atil, Module 2 with the new [CaSPT], Module 3 with the new A.
+
+Fixed step: the states are assigned directly in the DERIVATIVE block (y + h (D/h) for Modules 1 and 3, the exact
+update for Atil, as the three mechanisms compute them), and every derivative is then zero, so METHOD euler adds
+exactly nothing.  CVODE (variable_step = 1): the DERIVATIVE block gives the three right-hand sides.
+
+Slower muscle (substeps = k >= 1, fixed step only): the muscle advances once every k membrane steps, by one step
+of k dt at the end of those k (spikes arriving in between act at the next muscle step; the outputs hold between
+muscle steps).  k = 1 is the three-mechanism update.  The movement clock (eqs 19-20) is read at the muscle step's
+midpoint, as KimAct reads it at the fixed step's.
+ENDCOMMENT
+
+NEURON {
+    POINT_PROCESS KimUnit
+    THREADSAFE
+    : 1 while NEURON integrates with CVODE (set at every finitialize by the package; from hoc: variable_step_<name> = 1)
+    GLOBAL variable_step
+    : Module 1
+    RANGE K1, K2, K3, K4, K5i, K6i, K, Rmax, Umax, tau1, tau2, CS0, B0, T0, CaSR0
+    RANGE phi1, phi2, phi3, phi4, xopt, lencomp
+    RANGE R, U, K5, K6, phi, nspike
+    : Module 2
+    RANGE C1, C2, C3, C4, C5, alpha, alpha1, alpha2, alpha3, beta, gamma
+    RANGE movdep, lengdiv, onset, Afloor, atil0
+    RANGE A, alpha_t, Ainf, tauA, asw, ssw
+    : Module 3
+    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, fcmin, F0, subtol, nsubmax
+    RANGE F, Fse, Fc, vce, nasym, xce, x0, nsub, nsplit
+    : the unit
+    RANGE rest, substeps
+    : intermediates set and used within one instance's evaluation (per instance: CoreNEURON takes no GLOBAL
+    : assigned during a run)
+    RANGE a1, a2, a3, a4, a5, a6, a7, b1, b2, b3, b4, b5, b6, b7, kA, kAd, dvdF, aa, bb, dfdx, kse, al, xl
+    POINTER xm, vm
+}
+
+UNITS {
+    (M) = (1/liter)
+}
+
+PARAMETER {
+    rest = 1 (1)
+    substeps = 1 (1)
+    variable_step = 0 (1)
+}
+
+ASSIGNED {
+    dt (ms)
+    xm (mm)
+    vm (mm/s)
+    : the substep counter, and whether the derivatives are zeroed for the fixed step
+    kcount (1)
+    zeroed (1)
+}
+
+INCLUDE "kim_m1_calcium.inc"
+INCLUDE "kim_m2_activation.inc"
+INCLUDE "kim_m3_force.inc"
+
+INITIAL {
+    xl = xm
+    ca_initial(atil, xl)
+    kcount = 0
+    zeroed = 0
+    act_initial(CaSPT, xl, vm)
+    al = A
+    ce_initial()
+}
+
+BREAKPOINT {
+    SOLVE states METHOD euler
+}
+
+DERIVATIVE states {
+    : the length is read once per evaluation (under the fixed step, once per update: a POINTER read is a generic
+    : data handle in NEURON 9)
+    if (variable_step) {
+        xl = xm
+        rhs_all()
+    } else {
+        kcount = kcount + 1
+        if (kcount >= substeps) {
+            kcount = 0
+            xl = xm
+            step_all(substeps*dt)
+        }
+        if (zeroed == 0) {
+            : the states are already advanced: nothing is left for METHOD euler to add (set once per run;
+            : rhs_all, under CVODE, sets them again)
+            a1 = 0  a2 = 0  a3 = 0  a4 = 0  a5 = 0  a6 = 0  a7 = 0
+            b1 = 0  b2 = 0  b3 = 0  b4 = 0  b5 = 0  b6 = 0  b7 = 0
+            kAd = 0
+            aa = 0
+            bb = 0
+            zeroed = 1
+        }
+    }
+    CaSR' = a1 - b1*CaSR
+    CaSRCS' = a2 - b2*CaSRCS
+    CaSP' = a3 - b3*CaSP
+    CaSPB' = a4 - b4*CaSPB
+    CaSPT' = a5 - b5*CaSPT
+    S2' = a6 - b6*S2
+    S12' = a7 - b7*S12
+    atil' = (Ainf - atil)*kAd
+    dxce' = aa - bb*dxce
+    if (variable_step) {
+        : KimForce's DERIVATIVE ends with se_force() (its CVODE output F)
+        se_force()
+    }
+}
+
+PROCEDURE rhs_all() {
+    : CVODE: KimCa's, KimAct's and KimForce's right-hand sides in registration order
+    zeroed = 0
+    ca_rhs(atil, xl)
+    act_rates(CaSPT)
+    kAd = kA
+    activation(t, 1, xl, vm)
+    al = A
+    ce_rhs()
+}
+
+PROCEDURE step_all(h (ms)) {
+    : one fixed step of length h of the three modules, states assigned here (h = dt: the three mechanisms'
+    : update exactly)
+    LOCAL w
+    w = vm
+    : Module 1: its increments (per ms) applied as METHOD euler applies KimCa's, then spent
+    ca_step(h, atil, xl)
+    CaSR = CaSR + h*a1
+    CaSRCS = CaSRCS + h*a2
+    CaSP = CaSP + h*a3
+    CaSPB = CaSPB + h*a4
+    CaSPT = CaSPT + h*a5
+    S2 = S2 + h*a6
+    S12 = S12 + h*a7
+    a1 = 0  a2 = 0  a3 = 0  a4 = 0  a5 = 0  a6 = 0  a7 = 0
+    : Module 2 with the new [CaSPT]
+    act_step(h, CaSPT, xl, w)
+    : Module 3 with the new A, then its report at the step's end
+    al = A
+    sw = ssw
+    ce_fixed_step(h)
+    dxce = dxce + h*acs
+    ce_report()
+}
+
+PROCEDURE ca_gains() {
+    : no modulation ports
+    rg = 1
+    ug = 1
+}
+
+PROCEDURE act_ports(x (1)) {
+    : no modulation ports
+}
+
+PROCEDURE force_output() {
+    : no modulation ports: the output is the SE force
+    F = Fse
+}
