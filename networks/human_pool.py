@@ -1,5 +1,5 @@
-"""A human motor-unit pool of the Fuglevand type: a recruitment ramp, force-frequency, and a random locomotor-like
-length shared by the pool.
+"""A human motor-unit pool of the Fuglevand type: a recruitment ramp of the common synaptic drive, force-frequency,
+and a random locomotor-like length shared by the pool.
 
 Grounding of the pool definition:
 - units and forces: Fuglevand, Winter & Patla 1993 (J Neurophysiol 70:2470) spread twitch forces exponentially over
@@ -10,17 +10,19 @@ Grounding of the pool definition:
 - types: 70 % S, 20 % FR, 10 % FF (human TA is about 70-75 % type I fibres: Johnson, Polgar, Weightman &
   Appleton 1973 J Neurol Sci 18:111); twitch speed by type from neuromuscle.pool.TWITCH_SPEED; motoneuron size
   index over the whole S..FF range; axon 900 mm (human leg).
-- motoneurons: the dendritic L-type PIC is 1e-4 S/cm2 in every cell (see cat_soleus_pool.py: the size-scaled S
-  value drives the reduced cells into a >300 Hz mode).  The reduced cells' primary range is narrow (about 2-3x
-  rheobase before a high-rate mode), so a common current cannot recruit the whole pool: the ramp peak
-  (--peak-na, default 7 nA) recruits the lower part of the pool; the figure says how many.
+- motoneurons: the size-scaled reduced cells at the neuromodulation of human voluntary contractions
+  (neuromuscle.pool.motoneuron.HUMAN_NEUROMODULATION), driven by a common synaptic conductance, the same total on
+  every cell (Pool.drive_synaptic): the peak (--peak-us, default 0.6 uS) recruits the whole pool and the rates
+  stay within those of human motor units (5-30 Hz).
 
-Experiments: (1) current ramp 0 -> peak -> 0 into every soma, isometric at -8 mm; (2) force-frequency by type and
-for the pool (every unit at each rate); (3) the same pool held at the ramp's peak current under a random
-locomotor-like length (neuromuscle.protocols.random_length, band 5 Hz, -16..0 mm, seed --seed) shared by all units.
+Experiments: (1) synaptic drive 0 -> peak (half the run), held, then down to 0, isometric at -8 mm; (2)
+force-frequency by type and for the pool (every unit at each rate); (3) the same pool held at the peak drive under
+a random locomotor-like length (neuromuscle.protocols.random_length, band 5 Hz, -16..0 mm, seed --seed) shared by
+all units.
 Run: python networks/human_pool.py --out DIR [--full] [--overwrite]
 Writes DIR/human_ramp.h5 (neuromuscle.pool/1 + force_frequency group), DIR/human_length.h5, their pool figures
-(.png) and DIR/human_summary.png.  Units: ms, nA, N, Hz, mm.
+(.png) and DIR/human_summary.png; prints a summary (units recruited, peak and median unit rates).  Units: ms, uS,
+N, Hz, mm.
 """
 
 from __future__ import annotations
@@ -28,8 +30,11 @@ from __future__ import annotations
 import argparse
 import time
 
+import numpy as np
+
 from neuromuscle import Simulator, load_parameters
 from neuromuscle.pool import Pool, PoolDefinition
+from neuromuscle.pool.discharge_stats import unit_rates
 from neuromuscle.pool.experiments import force_frequency, summary_figure, total_force_smallest_p0_N
 from neuromuscle.protocols import random_length
 from neuromuscle.reports.outdir import prepare_out_dir
@@ -37,7 +42,6 @@ from neuromuscle.reports.outdir import prepare_out_dir
 FILES = ("human_ramp.h5", "human_ramp.png", "human_length.h5", "human_length.png", "human_summary.png")
 RATES_HZ = (2, 5, 8, 10, 15, 20, 30, 40, 60, 100)
 P0_RANGE, TOTAL_P0_N = 100.0, 600.0
-PIC_S_PER_CM2 = 1e-4
 
 
 def definition(n_units: int) -> PoolDefinition:
@@ -45,7 +49,7 @@ def definition(n_units: int) -> PoolDefinition:
     return PoolDefinition(n_units, load_parameters("CT09"),
                           smallest_p0_N=total_force_smallest_p0_N(n_units, TOTAL_P0_N, P0_RANGE),
                           p0_range=P0_RANGE, type_fractions=(0.7, 0.2, 0.1), max_size=1.0, axon_length_mm=900.0,
-                          motoneuron_overrides={"g_cal_S_per_cm2": PIC_S_PER_CM2}, name="human")
+                          name="human")
 
 
 def main(argv: list[str] | None = None) -> dict:
@@ -53,33 +57,37 @@ def main(argv: list[str] | None = None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", required=True, help="output folder")
     ap.add_argument("--full", action="store_true", help="800 units, 5 s runs (default 20 units, 1.5 s)")
-    ap.add_argument("--peak-na", type=float, default=7.0, help="ramp peak current (nA)")
+    ap.add_argument("--peak-us", type=float, default=0.6, help="peak of the synaptic drive (uS a cell)")
     ap.add_argument("--seed", type=int, default=1, help="seed of the random length")
     ap.add_argument("--overwrite", action="store_true")
     a = ap.parse_args(argv)
     out = prepare_out_dir(a.out, a.overwrite, FILES)
     n, duration = (800, 5000.0) if a.full else (20, 1500.0)
-    times, amps = [0.0, 0.5 * duration, 0.75 * duration, duration], [0.0, a.peak_na, a.peak_na, 0.0]
+    times, drive = [0.0, 0.5 * duration, 0.75 * duration, duration], [0.0, a.peak_us, a.peak_us, 0.0]
     d = definition(n)
     sim = Simulator(method="fixed", dt_ms=0.025)
     t0 = time.time()
     with Pool(d, length=-8.0) as pool:
-        pool.drive_current_ramp(times, amps)
+        pool.drive_synaptic(times, drive)
         ramp = pool.run(duration, sim)
     length = random_length(duration, seed=a.seed)
     with Pool(d, length=length) as pool:
-        pool.drive_current_ramp([0.0, 0.1 * duration, duration], [0.0, a.peak_na, a.peak_na])
+        pool.drive_synaptic([0.0, 0.1 * duration, duration], [0.0, a.peak_us, a.peak_us])
         moving = pool.run(duration, sim)
     ff = force_frequency(d, RATES_HZ)
     ramp.save(out / FILES[0], overwrite=a.overwrite)
     ff.save_into(out / FILES[0], d, rates_hz=list(RATES_HZ), muscle_set="CT09", length_mm=-8.0)
-    ramp.figure(out / FILES[1], title=f"human pool, {n} units, current ramp to {a.peak_na:g} nA")
+    ramp.figure(out / FILES[1], title=f"human pool, {n} units, synaptic drive to {a.peak_us:g} uS")
     moving.save(out / FILES[2], overwrite=a.overwrite)
-    moving.figure(out / FILES[3], title=f"human pool, {n} units, {a.peak_na:g} nA, random length (seed {a.seed})")
-    summary_figure(out / FILES[4], ramp, times, amps, ff, d, f"human pool ({n} units): ramp, recruitment, "
-                                                            "force-frequency, random length", length_run=moving)
+    moving.figure(out / FILES[3], title=f"human pool, {n} units, {a.peak_us:g} uS, random length (seed {a.seed})")
+    summary_figure(out / FILES[4], ramp, times, drive, ff, d, f"human pool ({n} units): ramp, recruitment, "
+                                                             "force-frequency, random length", length_run=moving)
+    rates = unit_rates([s for s in ramp.spikes_ms if s.size > 2])
     summary = {"units": n, "recruited": int(sum(s.size > 0 for s in ramp.spikes_ms)),
-               "peak_pool_force_N": float(ramp.pool_force_N.max()), "ramp_wall_s": round(ramp.wall_s, 1),
+               "peak_pool_force_N": float(ramp.pool_force_N.max()),
+               "unit_peak_rate_max_hz": round(float(np.nanmax(rates.peak_hz)), 1),
+               "unit_median_rate_median_hz": round(float(np.nanmedian(rates.median_hz)), 1),
+               "ramp_wall_s": round(ramp.wall_s, 1),
                "length_wall_s": round(moving.wall_s, 1), "total_wall_s": round(time.time() - t0, 1)}
     print(summary)
     return summary

@@ -3,7 +3,7 @@ Kim mechanisms every step, one mechanism per motoneuron channel, dt 0.025 ms), w
 scale of its own error.
 
 Run from the repository root:  python docs/validation/pool_avenues.py [--units N] [--duration-ms T]
-Prints Markdown (100 units, 2 s: about 45 s on this machine).  The drive is a common current ramp 0 -> 20 nA over
+Prints Markdown (100 units, 2 s: about 45 s on two cores).  The drive is a common current ramp 0 -> 20 nA over
 the run (the benchmark's ramp, compressed); errors in % of the reference's peak pool force; times in s, ms.
 """
 

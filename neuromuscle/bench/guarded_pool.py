@@ -43,7 +43,7 @@ def _serve(conn: Connection, fn: Task) -> None:
             return
         index, item = task
         try:
-            fn(item, lambda message: conn.send(("message", index, message)))
+            fn(item, lambda message, index=index: conn.send(("message", index, message)))
             conn.send(("done", index, None))
         except Exception:  # reported to the parent, which records it; the worker serves on
             conn.send(("error", index, traceback.format_exc(limit=8)))

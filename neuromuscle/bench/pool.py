@@ -4,6 +4,10 @@ Each configuration runs in fresh processes (``python -m neuromuscle.pool.run_mpi
 for R > 1), so its memory is its own: ``peak_rss_mib`` is the largest rank's peak resident memory, as the ranks
 report it themselves.  The machine's 1-minute load average is recorded before and after each run: on a shared
 machine it says how much the wall time can be trusted.  Units: s, MiB, ms.
+
+Engines: each configuration runs under every engine asked for (``engines``: NEURON, CoreNEURON); the per-cell-step
+cost (ns per motoneuron-and-muscle-unit step, per core) puts engines, sizes and rank counts side by side, and when
+both engines ran a configuration their results are compared (``agreement``: spikes, pool force).
 """
 
 from __future__ import annotations
@@ -12,23 +16,33 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 import time
+from pathlib import Path
 from typing import Any, Sequence
+
+import numpy as np
 
 from ..errors import InputError, NeuromuscleError
 from ..pool.mpi import mpi_available, mpiexec_command
 from ..pool.motoneuron import CHANNELS
+from ..sim.simulator import ENGINES
 
-#: Default run (about two minutes on this 2-core machine) and --full (the issue's table).
+#: Default run (about two minutes on two cores) and --full (N = 100 to 800).
 DEFAULT_UNITS = (50, 100)
 DEFAULT_DURATION_MS = 1000.0
 FULL_UNITS = (100, 200, 400, 800)
 FULL_DURATION_MS = 5000.0
 RANKS = (1, 2)
 
+#: Drives (``bench_pool``) and the synaptic drive's peak (uS, each cell's total conductance).
+DRIVES = ("synaptic", "ramp", "poisson")
+SYNAPTIC_PEAK_US = 0.6
+
 #: Keys every run's report carries (besides its configuration).
 RUN_KEYS = ("n_units", "ranks", "wall_s", "peak_rss_mib", "build_s", "sim_s", "s_per_unit_s", "spikes",
-            "peak_rss_mib_per_rank", "startup_s", "load_1min_before", "load_1min_after")
+            "mean_rate_hz", "peak_rss_mib_per_rank", "startup_s", "load_1min_before", "load_1min_after", "engine",
+            "ns_per_cell_step_per_core")
 
 
 def _load() -> float:
@@ -36,11 +50,15 @@ def _load() -> float:
 
 
 def run_one(n_units: int, ranks: int, duration_ms: float, dt_ms: float, drive: str,
-            extra: Sequence[str] = (), timeout_s: float = 3600.0) -> dict[str, Any]:
+            extra: Sequence[str] = (), timeout_s: float = 3600.0, out: Path | None = None) -> dict[str, Any]:
     """One pool run of n_units on ``ranks`` MPI ranks (fresh processes); its report (run_mpi's JSON plus the
-    load average before and after).  Raises NeuromuscleError when the run fails."""
+    load average before and after, and the cost per cell-step: ns of integration per motoneuron-and-muscle-unit
+    step, per core).  ``out``: where run_mpi writes the result (HDF5).  Raises NeuromuscleError when the run
+    fails."""
     args = ["-m", "neuromuscle.pool.run_mpi", "--json", "--units", str(n_units), "--duration-ms", str(duration_ms),
             "--dt-ms", str(dt_ms), "--drive", drive, *extra]
+    if out is not None:
+        args += ["--out", str(out), "--overwrite"]
     cmd = mpiexec_command(ranks, args) if ranks > 1 else [sys.executable, *args]
     before = _load()
     start = time.perf_counter()
@@ -51,20 +69,46 @@ def run_one(n_units: int, ranks: int, duration_ms: float, dt_ms: float, drive: s
     report = json.loads(proc.stdout[proc.stdout.index("{"):])
     report["process_s"] = time.perf_counter() - start
     report["load_1min_before"], report["load_1min_after"] = before, _load()
+    report.setdefault("engine", "neuron")
+    report["ns_per_cell_step_per_core"] = cell_step_ns(report["sim_s"], ranks, n_units, duration_ms, dt_ms)
     return report
 
 
+def cell_step_ns(sim_s: float, ranks: int, n_units: int, duration_ms: float, dt_ms: float) -> float:
+    """Integration cost (ns) of one step of one cell (a motoneuron and its muscle unit) on one core: sim_s (s) of
+    ``ranks`` cores spent on n_units cells over duration_ms / dt_ms steps."""
+    return sim_s * ranks / (n_units * duration_ms / dt_ms) * 1e9
+
+
+def agreement(a: Any, b: Any) -> dict[str, Any]:
+    """How two results of the same pool differ (PoolResult a, b): spike counts and times (ms) unit by unit, and
+    the pool force (its largest difference relative to a's peak)."""
+    counts = [int(y.size) - int(x.size) for x, y in zip(a.spikes_ms, b.spikes_ms)]
+    shifts = [float(np.max(np.abs(x - y))) for x, y in zip(a.spikes_ms, b.spikes_ms) if x.size == y.size and x.size]
+    peak = float(a.pool_force_N.max())
+    return {"spikes": int(sum(x.size for x in a.spikes_ms)),
+            "spikes_identical": all(np.array_equal(x, y) for x, y in zip(a.spikes_ms, b.spikes_ms)),
+            "units_with_other_spike_count": int(sum(c != 0 for c in counts)),
+            "max_spike_shift_ms": max(shifts, default=0.0),
+            "forces_identical": bool(np.array_equal(a.unit_force_N, b.unit_force_N)),
+            "pool_force_max_diff_of_peak": float(np.max(np.abs(a.pool_force_N - b.pool_force_N)) / peak)
+            if peak > 0 else 0.0}
+
+
 def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANKS,
-               duration_ms: float = DEFAULT_DURATION_MS, dt_ms: float = 0.025, drive: str = "ramp",
+               duration_ms: float = DEFAULT_DURATION_MS, dt_ms: float = 0.025, drive: str = "synaptic",
                full: bool = False, progress: bool = False, muscle: str = "fused", substeps: int = 8,
-               nthread: int = 1, channels: str = "fused") -> dict[str, Any]:
+               nthread: int = 1, channels: str = "fused", engines: Sequence[str] = ("neuron",)) -> dict[str, Any]:
     """Run every (N, ranks) pair and return {"runs": [report, ...], "skipped": [...], settings}; a rank count
-    that cannot run here (no MPI) is listed under "skipped" with the reason.  The drive is a common current ramp
-    0 -> 20 nA over the run ("ramp": recruitment across the pool) or independent Poisson input ("poisson").
+    that cannot run here (no MPI) is listed under "skipped" with the reason.  The drive is a common synaptic
+    conductance rising to SYNAPTIC_PEAK_US over the run ("synaptic", the default: every unit recruited, rates of
+    5-30 Hz as in human motor units, ``mean_rate_hz`` in each report), a common current ramp 0 -> 20 nA
+    ("ramp": the same recruitment by a current, higher rates) or independent Poisson input ("poisson").
     ``muscle``: "modules" (KimCa, KimAct, KimForce) or "fused" (KimUnit); ``substeps`` k: the fused muscle
     advances every k membrane steps; ``nthread``: NEURON threads per rank; ``channels``: the motoneurons'
     ("fused" or "separate").  The defaults are the fast path (fused muscle every 8 steps, fused channels); the
-    errors of each against the reference are in the README ("Motoneuron pools", speed)."""
+    errors of each against the reference are in the README ("Motoneuron pools", speed).  ``engines``: "neuron",
+    "coreneuron" or both; with both, "agreement" compares their results of each (N, ranks)."""
     if not units or any(isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in units):
         raise InputError(f"pool sizes must be integers >= 1, got {list(units)}")
     if not ranks or any(isinstance(r, bool) or not isinstance(r, int) or r < 1 for r in ranks):
@@ -72,8 +116,8 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
     too_many = [(n, r) for n in units for r in ranks if r > n]
     if too_many:
         raise InputError(f"more ranks than units in {too_many}: use at most one rank per unit")
-    if drive not in ("ramp", "poisson"):
-        raise InputError(f"drive must be 'ramp' or 'poisson', got {drive!r}")
+    if drive not in DRIVES:
+        raise InputError(f"drive must be one of {', '.join(DRIVES)}, got {drive!r}")
     if muscle not in ("modules", "fused"):
         raise InputError(f"muscle must be 'modules' or 'fused', got {muscle!r}")
     for name, k in (("substeps", substeps), ("nthread", nthread)):
@@ -83,36 +127,63 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
         raise InputError(f"substeps = {substeps} needs muscle='fused'")
     if channels not in CHANNELS:
         raise InputError(f"channels must be one of {', '.join(CHANNELS)}, got {channels!r}")
-    extra = ["--ramp-peak-na", "20"] if drive == "ramp" else []
+    if not engines or any(e not in ENGINES for e in engines) or len(set(engines)) != len(engines):
+        raise InputError(f"engines must be one or more of {', '.join(ENGINES)}, each once, got {list(engines)}")
+    extra = {"ramp": ["--ramp-peak-na", "20"], "synaptic": ["--synaptic-peak-us", str(SYNAPTIC_PEAK_US)]}.get(drive, [])
     extra += ["--muscle", muscle, "--substeps", str(substeps), "--nthread", str(nthread), "--channels", channels]
     out: dict[str, Any] = {"duration_ms": duration_ms, "dt_ms": dt_ms, "drive": drive, "full": full,
                            "muscle": muscle, "substeps": substeps, "nthread": nthread, "channels": channels,
-                           "cpu_count": os.cpu_count(), "runs": [], "skipped": []}
-    for n in units:
-        for r in ranks:
-            if r > 1 and not mpi_available():
-                out["skipped"].append({"n_units": n, "ranks": r, "reason": "no MPI: install the mpi extra"})
-                continue
-            rep = run_one(n, r, duration_ms, dt_ms, drive, extra)
-            if progress:
-                print(f"neuromuscle bench pool: N={n} ranks={r} wall {rep['wall_s']:.1f} s, peak "
-                      f"{rep['peak_rss_mib']:.0f} MiB, load {rep['load_1min_before']:.1f}", file=sys.stderr,
-                      flush=True)
-            out["runs"].append(rep)
+                           "cpu_count": os.cpu_count(), "engines": list(engines), "runs": [], "skipped": []}
+    if len(engines) > 1:
+        out["agreement"] = []
+    from ..pool.result import load_pool_result
+
+    with tempfile.TemporaryDirectory(prefix="neuromuscle-bench-pool.") as tmp:
+        for n in units:
+            for r in ranks:
+                if r > 1 and not mpi_available():
+                    out["skipped"].append({"n_units": n, "ranks": r, "reason": "no MPI: install the mpi extra"})
+                    continue
+                files = {}
+                for engine in engines:
+                    files[engine] = Path(tmp) / f"{engine}.h5"
+                    rep = run_one(n, r, duration_ms, dt_ms, drive, [*extra, "--engine", engine],
+                                  out=files[engine] if len(engines) > 1 else None)
+                    if progress:
+                        print(f"neuromuscle bench pool: N={n} ranks={r} {engine}: wall {rep['wall_s']:.1f} s, "
+                              f"peak {rep['peak_rss_mib']:.0f} MiB, load {rep['load_1min_before']:.1f}",
+                              file=sys.stderr, flush=True)
+                    out["runs"].append(rep)
+                if len(engines) > 1:
+                    first, *others = (load_pool_result(files[e]) for e in engines)
+                    for engine, other in zip(engines[1:], others):
+                        out["agreement"].append({"n_units": n, "ranks": r, "engines": [engines[0], engine],
+                                                 **agreement(first, other)})
     return out
 
 
 def table_lines(res: dict[str, Any]) -> list[str]:
-    """The result as a Markdown table (N x ranks: wall, sim, build, memory, spikes, load)."""
+    """The result as a Markdown table (N x ranks: wall, sim, build, memory, spikes, mean rate, load)."""
     lines = [f"pools, {res['duration_ms'] / 1000:g} s simulated at dt {res['dt_ms']} ms, {res['drive']} drive, muscle "
              f"{res.get('muscle', 'modules')} (substeps {res.get('substeps', 1)}), motoneuron channels "
              f"{res.get('channels', 'separate')}, {res.get('nthread', 1)} thread(s)",
-             "", "| N | ranks | wall s | sim s | build s | s per unit-s | peak MiB (largest rank) | spikes | load |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "", "| N | ranks | engine | wall s | sim s | build s | s per unit-s | ns per cell-step per core | "
+             "peak MiB (largest rank) | spikes | mean rate Hz | load |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in res["runs"]:
-        lines.append(f"| {r['n_units']} | {r['ranks']} | {r['wall_s']:.2f} | {r['sim_s']:.2f} | {r['build_s']:.2f} "
-                     f"| {r['s_per_unit_s']:.4f} | {r['peak_rss_mib']:.0f} | {r['spikes']} | "
+        lines.append(f"| {r['n_units']} | {r['ranks']} | {r.get('engine', 'neuron')} | {r['wall_s']:.2f} | "
+                     f"{r['sim_s']:.2f} | {r['build_s']:.2f} | {r['s_per_unit_s']:.4f} | "
+                     f"{r['ns_per_cell_step_per_core']:.0f} | {r['peak_rss_mib']:.0f} | {r['spikes']} | "
+                     f"{r.get('mean_rate_hz', float('nan')):.1f} | "
                      f"{r['load_1min_before']:.1f}-{r['load_1min_after']:.1f} |")
     for s in res["skipped"]:
-        lines.append(f"| {s['n_units']} | {s['ranks']} | skipped: {s['reason']} | | | | | | |")
+        lines.append(f"| {s['n_units']} | {s['ranks']} | skipped: {s['reason']} | | | | | | | | | |")
+    if res.get("agreement"):
+        lines += ["", "| N | ranks | engines | spikes | identical spikes | units with another count | largest spike "
+                      "shift ms | identical forces | pool force diff / peak |", "|---|---|---|---|---|---|---|---|---|"]
+        for a in res["agreement"]:
+            lines.append(f"| {a['n_units']} | {a['ranks']} | {' vs '.join(a['engines'])} | {a['spikes']} | "
+                         f"{a['spikes_identical']} | {a['units_with_other_spike_count']} | "
+                         f"{a['max_spike_shift_ms']:.3g} | {a['forces_identical']} | "
+                         f"{a['pool_force_max_diff_of_peak']:.2e} |")
     return lines

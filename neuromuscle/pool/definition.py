@@ -10,9 +10,20 @@ import numpy as np
 
 from ..errors import InputError
 from ..parameters import ParameterSet
-from ..validate import finite_number, positive_number
-from .motoneuron import CHANNELS, TYPES, MotoneuronParameters, motoneuron_parameters, unit_type_of
+from ..validate import finite_number, nonnegative_number, positive_number
+from .motoneuron import (CHANNELS, HUMAN_NEUROMODULATION, TYPES, MotoneuronParameters, motoneuron_parameters,
+                         unit_type_of)
 from .units import TWITCH_SPEED, p0_spread_N, unit_muscle_parameters
+
+
+def size_index(rank: float, spacing: float) -> float:
+    """The size index (0..1) of the unit at ``rank`` (0..1) in the pool.  ``spacing`` 1: uniform in rank, so the
+    size-scaled properties (rheobase among them) grow geometrically with rank (the exponential spread of
+    Fuglevand, Winter & Patla 1993); ``spacing`` K > 1: log(1 + (K - 1) rank) / log K, so a property that grows
+    K-fold over the size range grows linearly with rank (fewer units crowd the low end)."""
+    if spacing == 1.0:
+        return rank
+    return float(np.log1p((spacing - 1.0) * rank) / np.log(spacing))
 
 
 #: Muscle models a pool can build: the three Kim mechanisms, or Modules 1-3 fused in one (KimUnit).
@@ -41,10 +52,14 @@ class UnitSpec:
 class PoolDefinition:
     """N units in recruitment order (size index from 0 to ``max_size``), types by ``type_fractions`` (S, FR, FF),
     P0 from ``smallest_p0_N`` over ``p0_range`` (largest / smallest), twitch speed by type (``twitch_speed``),
-    axon length ``axon_length_mm`` (mm).  ``extensions``: {unit index: {extension: {param: value}}} or one
-    mapping for every unit (key "all").  ``motoneuron_overrides``: fields replaced in every motoneuron.
+    axon length ``axon_length_mm`` (mm), PIC strength ``neuromodulation`` (0: none, as under anaesthesia; 1: the
+    decerebrate cat's; see ``motoneuron``).  ``extensions``: {unit index: {extension: {param: value}}} or one
+    mapping for every unit (key "all").  ``motoneuron_overrides``: fields replaced in every motoneuron;
+    ``motoneuron_scales``: factors on its size-dependent parameters (``motoneuron_parameters``).
     ``muscle_model``: "modules" (KimCa, KimAct, KimForce: takes extensions) or "fused" (KimUnit: the same numbers,
     faster, no extensions); ``muscle_substeps`` k (fused only): the muscle advances every k membrane steps.
+    ``size_spacing``: how sizes spread over the ranks (``size_index``).  ``p0_N``: every unit's P0 (N, recruitment
+    order) instead of the exponential spread.
     ``motoneuron_channels``: "fused" (mn_soma + mn_pic, tabulated rates) or "separate" (one mechanism per channel,
     the reference); see ``motoneuron.CHANNELS``."""
 
@@ -62,6 +77,10 @@ class PoolDefinition:
     muscle_model: str = "modules"
     muscle_substeps: int = 1
     motoneuron_channels: str = "fused"
+    neuromodulation: float = HUMAN_NEUROMODULATION
+    size_spacing: float = 1.0
+    p0_N: tuple[float, ...] | None = None
+    motoneuron_scales: Mapping[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         where = f"pool {self.name!r}"
@@ -73,6 +92,9 @@ class PoolDefinition:
         if not 0.0 <= size <= 1.0:
             raise InputError(f"{where}: max_size must lie in [0, 1], got {size}")
         positive_number(f"{where}: axon_length_mm", self.axon_length_mm)
+        nonnegative_number(f"{where}: neuromodulation", self.neuromodulation)
+        if positive_number(f"{where}: size_spacing", self.size_spacing) < 1.0:
+            raise InputError(f"{where}: size_spacing must be >= 1 (1: sizes uniform in rank), got {self.size_spacing}")
         if set(self.twitch_speed) != set(TYPES):
             raise InputError(f"{where}: twitch_speed must give {', '.join(TYPES)}, got {sorted(self.twitch_speed)}")
         for t, k in self.twitch_speed.items():
@@ -98,19 +120,27 @@ class PoolDefinition:
                              f"{self.motoneuron_channels!r}")
         unit_type_of(0.0, tuple(self.type_fractions))  # checks the fractions
         p0_spread_N(int(self.n_units), self.smallest_p0_N, self.p0_range)
+        motoneuron_parameters(0.0, scales=dict(self.motoneuron_scales))  # checks the scales
+        if self.p0_N is not None:
+            p0 = tuple(positive_number(f"{where}: p0_N[{i}]", x) for i, x in enumerate(self.p0_N))
+            if len(p0) != self.n_units:
+                raise InputError(f"{where}: p0_N gives {len(p0)} forces for {self.n_units} units")
+            object.__setattr__(self, "p0_N", p0)
         object.__setattr__(self, "_units", None)
 
     def units(self) -> list[UnitSpec]:
         """Every unit's specification, in recruitment order (cached)."""
         if self._units is None:  # type: ignore[has-type]
             n = int(self.n_units)
-            p0 = p0_spread_N(n, self.smallest_p0_N, self.p0_range)
+            p0 = (np.asarray(self.p0_N) if self.p0_N is not None
+                  else p0_spread_N(n, self.smallest_p0_N, self.p0_range))
             out = []
             for i in range(n):
-                x = self.max_size * (i / (n - 1) if n > 1 else 0.0)
+                x = self.max_size * size_index(i / (n - 1) if n > 1 else 0.0, self.size_spacing)
                 t = unit_type_of(i / n if n > 1 else 0.0, tuple(self.type_fractions))
-                mn = motoneuron_parameters(x, unit_type=t, axon_length_mm=self.axon_length_mm,
-                                           **dict(self.motoneuron_overrides))
+                fields = {"axon_length_mm": self.axon_length_mm, "neuromodulation": self.neuromodulation,
+                          **dict(self.motoneuron_overrides)}
+                mn = motoneuron_parameters(x, unit_type=t, scales=dict(self.motoneuron_scales), **fields)
                 muscle = unit_muscle_parameters(self.muscle, float(p0[i]), self.twitch_speed[t],
                                                 name=f"{self.muscle.name}:{self.name}[{i}]")
                 ext = dict(self.extensions.get("all", {}))

@@ -1,13 +1,15 @@
-"""Current-clamp measurements of one motoneuron: rheobase, AHP duration, f-I slope, hysteresis on a triangle.
+"""Current-clamp measurements of one motoneuron: rheobase, AHP duration, f-I slope, hysteresis on a triangle,
+self-sustained firing, and the rates under a common synaptic drive.
 
 Each builds its own IClamp at the soma, runs through the Simulator (fixed step, from ``v_init_mV``) and removes
-the clamp.  Units: nA, ms, mV, Hz.
+the clamp.  ``python -m neuromuscle.pool.excitability`` prints the cells' figures (S to FF) as JSON.
+Units: nA, ms, mV, Hz, uS.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Sequence
 
 import numpy as np
 
@@ -39,6 +41,23 @@ def clamp_run(cell: Motoneuron, times_ms: Sequence[float], amps_nA: Sequence[flo
     return out
 
 
+def steady_rate_hz(cell: Motoneuron, amp_nA: float, duration_ms: float = 1500.0, skip_ms: float = 1000.0) -> float:
+    """Mean discharge rate (Hz) from skip_ms (ms) after the onset of a step of amp_nA to its end (the adapted,
+    steady discharge Kernell 1965 measured); 0 when fewer than two spikes fall there."""
+    sp = step_spikes(cell, amp_nA, duration_ms)
+    late = sp[sp >= 100.0 + skip_ms]
+    return float((late.size - 1) * 1000.0 / (late[-1] - late[0])) if late.size > 2 else 0.0
+
+
+def input_resistance_step_MOhm(cell: Motoneuron, amp_nA: float = -0.5, duration_ms: float = 400.0) -> float:
+    """Input resistance (MOhm) as a physiologist measures it: the steady change of the soma potential under a
+    small hyperpolarising step (amp_nA, nA) divided by the current."""
+    dt = 0.025
+    _, v = clamp_run(cell, [0.0, 200.0, 200.0 + duration_ms], [0.0, amp_nA, 0.0], 200.0 + duration_ms,
+                     steps=True, dt_ms=dt)
+    return float((v[int((200.0 + duration_ms - 1.0) / dt)] - v[int(199.0 / dt)]) / amp_nA)
+
+
 def step_spikes(cell: Motoneuron, amp_nA: float, duration_ms: float = 200.0, onset_ms: float = 100.0) -> np.ndarray:
     """Spike times (ms) during and just after a current step of amp_nA from onset_ms for duration_ms."""
     sp, _ = clamp_run(cell, [0.0, onset_ms, onset_ms + duration_ms], [0.0, amp_nA, 0.0],
@@ -61,7 +80,7 @@ def rheobase_nA(cell: Motoneuron, upper_nA: float = 100.0, tolerance_nA: float =
     return hi
 
 
-def ahp_duration_ms(cell: Motoneuron, pulse_nA: float = 30.0, pulse_ms: float = 1.0, recovery: float = 0.9) -> float:
+def ahp_duration_ms(cell: Motoneuron, pulse_nA: float = 150.0, pulse_ms: float = 0.5, recovery: float = 0.9) -> float:
     """Duration (ms) of the afterhyperpolarisation after one spike evoked by a brief pulse: from the spike until the
     potential has recovered ``recovery`` of the way from the AHP trough back to rest."""
     onset = 200.0
@@ -80,13 +99,9 @@ def ahp_duration_ms(cell: Motoneuron, pulse_nA: float = 30.0, pulse_ms: float = 
 
 def fi_slope_Hz_per_nA(cell: Motoneuron, amps_nA: Sequence[float], duration_ms: float = 1000.0,
                        skip_ms: float = 500.0) -> tuple[float, np.ndarray]:
-    """Steady discharge rate (Hz, spikes after skip_ms of each step) at each step current, and the slope (Hz/nA)
-    of a straight line through them."""
-    rates = []
-    for a in amps_nA:
-        sp = step_spikes(cell, a, duration_ms)
-        rates.append(np.sum(sp >= 100.0 + skip_ms) / ((duration_ms - skip_ms) / 1000.0))
-    r = np.asarray(rates, float)
+    """Steady discharge rate (Hz, ``steady_rate_hz`` after skip_ms of each step) at each step current, and the
+    slope (Hz/nA) of a straight line through them."""
+    r = np.array([steady_rate_hz(cell, a, duration_ms, skip_ms) for a in amps_nA])
     return float(np.polyfit(np.asarray(amps_nA, float), r, 1)[0]), r
 
 
@@ -110,5 +125,62 @@ def triangle_hysteresis(cell: Motoneuron, peak_nA: float, rise_ms: float = 2000.
     sp, _ = clamp_run(cell, [0.0, rise_ms, 2 * rise_ms], [0.0, peak_nA, 0.0], 2 * rise_ms, steps=False)
     if sp.size == 0:
         raise ValueError(f"{cell.name}: no spike on the {peak_nA} nA triangle")
-    current: Any = lambda t: peak_nA * (t / rise_ms if t <= rise_ms else (2 * rise_ms - t) / rise_ms)
+    def current(t: float) -> float:
+        return peak_nA * (t / rise_ms if t <= rise_ms else (2 * rise_ms - t) / rise_ms)
+
     return Hysteresis(current(sp[0]), current(sp[-1]), int(sp.size))
+
+
+def self_sustained_ms(cell: Motoneuron, bias_nA: float, pulse_nA: float, pulse_ms: float = 500.0,
+                      after_ms: float = 3000.0) -> float:
+    """How long (ms) the cell keeps firing after a brief depolarising pulse (pulse_nA above bias_nA for pulse_ms)
+    while the bias current holds on (Lee & Heckman 1998's test of bistability): the time from the pulse's end to
+    the last spike, 0 when the firing stops with the pulse."""
+    onset = 500.0
+    end = onset + pulse_ms
+    sp, _ = clamp_run(cell, [0.0, onset, end], [bias_nA, bias_nA + pulse_nA, bias_nA], end + after_ms, steps=True)
+    after = sp[sp > end + 5.0]
+    return float(after[-1] - end) if after.size else 0.0
+
+
+def synaptic_rates_hz(cell: Motoneuron, conductances_uS: Sequence[float], duration_ms: float = 1500.0,
+                      skip_ms: float = 1000.0) -> np.ndarray:
+    """Steady rate (Hz, after skip_ms) under each constant common synaptic conductance (uS, the cell's total;
+    ``Motoneuron.play_synaptic_conductance``), one run each."""
+    from neuron import h
+
+    out = []
+    for g in conductances_uS:
+        tv = h.Vector([0.0])
+        kept = cell.play_synaptic_conductance(tv, [float(g)])
+        sp, _ = clamp_run(cell, [0.0, duration_ms], [0.0, 0.0], duration_ms, steps=True)
+        for vec in kept:
+            vec.play_remove()
+        for sec in (cell.soma, cell.dend):
+            sec.uninsert("mn_syn")
+        late = sp[sp >= skip_ms]
+        out.append((late.size - 1) * 1000.0 / (late[-1] - late[0]) if late.size > 2 else 0.0)
+    return np.array(out)
+
+
+def cell_facts(size: float, neuromodulation: float = 0.0) -> dict[str, float]:
+    """The figures a physiologist measures on the cell at ``size`` (0..1) and ``neuromodulation``: input
+    resistance (MOhm), rheobase (nA, 200-ms steps), AHP duration (ms), steady f-I slopes (Hz/nA) over 1.25-2 and
+    3-5 rheobase (primary and secondary ranges)."""
+    from .motoneuron import motoneuron_parameters
+
+    with Motoneuron(motoneuron_parameters(size, neuromodulation=neuromodulation)) as mn:
+        rb = rheobase_nA(mn, upper_nA=120.0, tolerance_nA=0.1)
+        lo = [1.25 * rb, 1.5 * rb, 2.0 * rb]
+        hi = [3.0 * rb, 4.0 * rb, 5.0 * rb]
+        primary, _ = fi_slope_Hz_per_nA(mn, lo, 1500.0, 1000.0)
+        secondary, _ = fi_slope_Hz_per_nA(mn, hi, 1500.0, 1000.0)
+        return {"size": size, "neuromodulation": neuromodulation, "input_resistance_MOhm": mn.input_resistance_MOhm(),
+                "rheobase_nA": rb, "ahp_ms": ahp_duration_ms(mn, pulse_nA=150.0, pulse_ms=0.5),
+                "fi_primary_Hz_per_nA": primary, "fi_secondary_Hz_per_nA": secondary}
+
+
+if __name__ == "__main__":
+    import json
+
+    print(json.dumps([cell_facts(x) for x in (0.0, 0.25, 0.5, 0.75, 1.0)], indent=1))

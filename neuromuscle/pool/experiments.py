@@ -2,7 +2,7 @@
 
     ff = force_frequency(definition, [5, 10, 20, 40])   # plateau force / P0 of one unit of each type, by rate
     ff.pool_force_N(definition)                          # every unit discharging at each rate (N)
-    recruitment_current_nA(result, times_ms, amps_nA)     # the ramp current at each unit's first spike
+    recruitment_drive(result, times_ms, drive)            # the ramp's drive (nA or uS) at each unit's first spike
 
 A unit's force is P0 times its force per newton of P0 (Module 3 is homogeneous in P0: ``force_calibration``), and
 the units of one type differ only in P0, so one unit a type and rate gives the whole pool's force-frequency curve
@@ -19,7 +19,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..errors import InputError
-from ..model.unit import MuscleUnit
+from ..sim.unit import MuscleUnit
 from ..protocols.trains import constant_rate
 from ..sim import Simulator
 from ..validate import positive_number
@@ -92,9 +92,10 @@ def force_frequency(definition: PoolDefinition, rates_hz: Sequence[float], *, tr
     return ForceFrequency(rates, tuple(first), (plateau / p0).reshape(len(first), rates.size))
 
 
-def recruitment_current_nA(result: PoolResult, times_ms: Sequence[float], amps_nA: Sequence[float]) -> np.ndarray:
-    """The ramp current (nA, linear between times_ms) at each unit's first spike; NaN for silent units."""
-    return np.array([np.interp(s[0], times_ms, amps_nA) if s.size else np.nan for s in result.spikes_ms])
+def recruitment_drive(result: PoolResult, times_ms: Sequence[float], drive: Sequence[float]) -> np.ndarray:
+    """The ramp's drive (its unit: nA for a current, uS for a synaptic conductance; linear between times_ms) at each
+    unit's first spike; NaN for silent units."""
+    return np.array([np.interp(s[0], times_ms, drive) if s.size else np.nan for s in result.spikes_ms])
 
 
 def total_force_smallest_p0_N(n_units: int, total_p0_N: float, p0_range: float) -> float:
@@ -105,27 +106,27 @@ def total_force_smallest_p0_N(n_units: int, total_p0_N: float, p0_range: float) 
     return positive_number("total P0 (N)", total_p0_N) / float(p0_spread_N(n_units, 1.0, p0_range).sum())
 
 
-def summary_figure(path: str | Path, ramp: PoolResult, ramp_times_ms: Sequence[float], ramp_amps_nA: Sequence[float],
+def summary_figure(path: str | Path, ramp: PoolResult, ramp_times_ms: Sequence[float], ramp_drive: Sequence[float],
                    ff: ForceFrequency, definition: PoolDefinition, title: str,
-                   length_run: PoolResult | None = None) -> Path:
-    """Ramp (current and pool force), recruitment current by unit, force-frequency (per type, relative; pool, N),
-    and the pool force under the length input (if given)."""
+                   length_run: PoolResult | None = None, drive_label: str = "synaptic drive (uS)") -> Path:
+    """Ramp (drive and pool force), recruitment drive by unit, force-frequency (per type, relative; pool, N), and
+    the pool force under the length input (if given).  ``drive_label`` names the drive and its unit."""
     from ..reports.figures import label_axes, legend, new_figure, save_figure, set_title
 
     fig, axes = new_figure(4 if length_run is not None else 3)
     t = ramp.t_ms / 1000.0
     axes[0].plot(t, ramp.pool_force_N, "k", label="pool force (N)")
     ax2 = axes[0].twinx()
-    ax2.plot(np.asarray(ramp_times_ms) / 1000.0, ramp_amps_nA, color="C1", lw=0.8)
-    ax2.set_ylabel("current (nA)", color="C1", fontsize=8)
+    ax2.plot(np.asarray(ramp_times_ms) / 1000.0, ramp_drive, color="C1", lw=0.8)
+    ax2.set_ylabel(drive_label, color="C1", fontsize=8)
     label_axes(axes[0], x="time (s)", y="pool force (N)")
     set_title(axes[0], title)
-    thr = recruitment_current_nA(ramp, ramp_times_ms, ramp_amps_nA)
+    thr = recruitment_drive(ramp, ramp_times_ms, ramp_drive)
     for k, typ in enumerate(("S", "FR", "FF")):
         idx = [i for i, u in enumerate(ramp.units) if u["type"] == typ]
         axes[1].plot(idx, thr[idx], ".", ms=3, color=f"C{k}", label=typ)
     label_axes(axes[1], x=f"unit (recruitment order; {np.isfinite(thr).sum()} of {thr.size} recruited)",
-               y="recruitment current (nA)")
+               y=f"recruitment {drive_label}")
     legend(axes[1], small=True)
     for k, typ in enumerate(ff.types):
         axes[2].plot(ff.rates_hz, ff.relative[k], "o-", ms=3, label=f"{typ} unit (force / P0)")

@@ -15,49 +15,75 @@ cylinder dendrite.
 
 Size scaling (``motoneuron_parameters``): the size index x in [0, 1] places a cell between the smallest S and
 the largest FF motoneuron; every size-dependent parameter is interpolated geometrically between its two ends
-(``SIZE_RANGE``).  Larger cells: larger soma and dendrite, lower specific membrane resistance (so lower input
-resistance and higher rheobase: Henneman's size principle), a faster-decaying AHP calcium (shorter AHP), faster
-axons, a smaller dendritic PIC density (S cells are the most bistable: Lee & Heckman 1998 J Neurophysiol
-80:2468).  Ends chosen to give cat lumbar values: input resistance about 3 MOhm (S) to 0.7 MOhm (FF),
-rheobase rising with size (measured: tests/pool/test_motoneuron.py), AHP about 300 ms (S) to 90 ms (FF), conduction velocity 80 to 110 m/s (Zengel et al. 1985 J Physiol
-360:569; Burke 1981; Kernell 2006 "The Motoneurone and its Muscle Fibres").  Units: um, ohm cm2, S/cm2, ms, mV,
-m/s, mm.
+(``SIZE_RANGE``).  Larger cells: a larger soma and dendrite and a lower specific membrane resistance (lower input
+resistance, higher rheobase: Henneman's size principle), a faster-decaying AHP calcium (shorter AHP), faster axons.
+The dendrite is an equivalent cylinder of electrotonic length about 1.2 (cat lumbar motoneurons: 1-2, Fleshman,
+Segev & Burke 1988), total membrane area 0.28 (S) to 0.52 mm2 (FF).  The AHP's K(Ca) conductance has a half-
+activation of 2 uM, so successive spikes sum their AHPs over the primary range instead of saturating it at the
+first spike.  Measured at ``neuromodulation=0`` (no PIC, as in the anaesthetised cat) the cells fall within the
+published cat ranges (tests/pool/test_motoneuron_physiology.py):
+  input resistance  S ~2.6, FF ~0.7 MOhm      (Zengel, Reid, Sypert & Munson 1985: S 1.6 +- 0.5, FF 0.6 +- 0.2)
+  rheobase          S ~5, FF ~18 nA           (Zengel et al. 1985: S 5 +- 2, FR 12, FF 21 nA)
+  AHP duration      S ~160, FF ~70 ms         (Zengel et al. 1985; Gustafsson & Pinter 1984)
+  f-I slope         1-2 Hz/nA, steady discharge (Kernell 1965; Powers & Binder 2001: primary range 1-4 Hz/nA)
+  conduction        80 (S) to 110 m/s (FF)    (Burke 1981; Zengel et al. 1985)
+The exact figures are printed by ``python -m neuromuscle.pool.excitability``.
+
+Neuromodulation (``neuromodulation``, 0 upward): the dendritic L-type PIC's conductance is ``neuromodulation``
+times its full density ``g_cal_S_per_cm2``, as monoamines (serotonin, noradrenaline from the brainstem) set the
+PIC's strength in vivo (Heckman, Lee & Brownstone 2003; Heckman & Enoka 2012).  0: no PIC (anaesthetised cat);
+1: the decerebrate cat's strong state, S cells bistable (a brief excitation starts firing that outlasts it: Lee &
+Heckman 1998); ``HUMAN_NEUROMODULATION``: moderate, giving the recruitment-derecruitment hysteresis of human
+motor units (Delta F of a few Hz by the paired-unit method: Gorassini, Yang, Eken & Bennett 2002).  The PIC
+activates from about -65 mV (half-activation -57 mV, slope 4 mV), just below the spike threshold, as in the
+decerebrate cat (Lee & Heckman 1998: onset a few mV below recruitment).  Units: um, ohm cm2, S/cm2, ms, mV, m/s,
+mm, mM.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, fields, replace
-from typing import Any
+from typing import Any, Mapping
+
+import numpy as np
 
 from ..errors import InputError
-from ..validate import finite_number
+from ..validate import finite_number, positive_number
 
 #: The channel implementations: "fused" (mn_soma + mn_pic: one mechanism per compartment, tabulated rates under
 #: the fixed step; the default) or "separate" (mn_naf, mn_kdr, mn_can, mn_cadyn, mn_kca + mn_cal: the reference,
 #: one mechanism per channel, NEURON's cnexp).
 CHANNELS = ("fused", "separate")
 
+#: Reversal potential (mV) of the excitatory synaptic drive (glutamatergic, AMPA-like: mixed cations).
+SYNAPTIC_REVERSAL_MV = 0.0
+
 #: Motor-unit types in size order (slow, fast fatigue-resistant, fast fatigable).
 TYPES = ("S", "FR", "FF")
 
 #: Size-dependent parameters: (value at x = 0, the smallest S cell; value at x = 1, the largest FF cell).
 SIZE_RANGE: dict[str, tuple[float, float]] = {
-    "soma_diam_um": (50.0, 80.0),
-    "dend_length_um": (2200.0, 3200.0),
-    "dend_diam_um": (16.0, 28.0),
-    "rm_soma_ohm_cm2": (1500.0, 500.0),
-    "rm_dend_ohm_cm2": (9000.0, 5000.0),
-    "ca_decay_ms": (60.0, 18.0),
+    "soma_diam_um": (55.0, 80.0),
+    "dend_length_um": (3500.0, 4200.0),
+    "dend_diam_um": (25.0, 38.0),
+    "rm_soma_ohm_cm2": (600.0, 250.0),
+    "rm_dend_ohm_cm2": (8000.0, 4500.0),
+    "ca_decay_ms": (45.0, 12.0),
     "conduction_m_per_s": (80.0, 110.0),
-    "g_cal_S_per_cm2": (4.2e-4, 1.0e-4),
+    "g_cal_S_per_cm2": (6.0e-5, 6.0e-5),
 }
+
+#: Neuromodulation of human voluntary contractions: the PIC strength (fraction of full) that gives human motor
+#: units their recruitment-derecruitment hysteresis (see the module docstring).
+HUMAN_NEUROMODULATION = 0.6
 
 
 @dataclass(frozen=True)
 class MotoneuronParameters:
     """One motoneuron's parameters (units in the names; conductances in S/cm2).  ``size`` is the index in [0, 1]
-    they were made from (None if set by hand) and ``unit_type`` one of TYPES."""
+    they were made from (None if set by hand) and ``unit_type`` one of TYPES.  ``g_cal_S_per_cm2`` is the PIC's full
+    density; the cell gets ``neuromodulation`` times it (``g_pic_S_per_cm2``)."""
 
     soma_diam_um: float
     dend_length_um: float
@@ -78,10 +104,12 @@ class MotoneuronParameters:
     g_naf_S_per_cm2: float = 0.6
     g_kdr_S_per_cm2: float = 0.15
     g_can_S_per_cm2: float = 0.01
-    g_kca_S_per_cm2: float = 0.003
+    g_kca_S_per_cm2: float = 0.012
+    kca_kd_mM: float = 0.002
     ca_depth_um: float = 1.0
-    cal_vhalf_mV: float = -40.0
-    cal_slope_mV: float = 6.0
+    cal_vhalf_mV: float = -57.0
+    cal_slope_mV: float = 4.0
+    neuromodulation: float = HUMAN_NEUROMODULATION
     dend_nseg: int = 3
 
     def __post_init__(self) -> None:
@@ -93,7 +121,7 @@ class MotoneuronParameters:
                 continue
             v = finite_number(f"{where}: {f.name}", getattr(self, f.name))
             negative_ok = f.name.endswith("_mV")
-            zero_ok = f.name.startswith("g_")
+            zero_ok = f.name.startswith("g_") or f.name == "neuromodulation"
             if not negative_ok and (v < 0 or (v == 0 and not zero_ok)):
                 raise InputError(f"{where}: {f.name} must be {'>= 0' if zero_ok else '> 0'}, got {v!r}")
         if not isinstance(self.dend_nseg, int) or isinstance(self.dend_nseg, bool) or self.dend_nseg < 1:
@@ -103,6 +131,11 @@ class MotoneuronParameters:
     def axon_delay_ms(self) -> float:
         """Conduction delay (ms) from the soma to the muscle: axon_length_mm / conduction_m_per_s."""
         return self.axon_length_mm / self.conduction_m_per_s
+
+    @property
+    def g_pic_S_per_cm2(self) -> float:
+        """The dendritic PIC's density in the cell (S/cm2): neuromodulation x g_cal_S_per_cm2."""
+        return self.neuromodulation * self.g_cal_S_per_cm2
 
     def to_dict(self) -> dict[str, Any]:
         """The parameters as a JSON-ready dict."""
@@ -120,14 +153,20 @@ def unit_type_of(size: float, fractions: tuple[float, float, float] = (0.25, 0.2
     return "FR" if size < s + fr or ff == 0 else "FF"
 
 
-def motoneuron_parameters(size: float, unit_type: str | None = None, **overrides: Any) -> MotoneuronParameters:
+def motoneuron_parameters(size: float, unit_type: str | None = None, *, scales: Mapping[str, float] | None = None,
+                          **overrides: Any) -> MotoneuronParameters:
     """Parameters of the cell at size index ``size`` in [0, 1] (0: smallest S, 1: largest FF), interpolated
-    geometrically over SIZE_RANGE; ``unit_type`` defaults to ``unit_type_of(size)``; ``overrides`` replace any
-    field (e.g. ``g_cal_S_per_cm2=0`` removes the PIC, ``axon_length_mm=900`` for a human leg)."""
+    geometrically over SIZE_RANGE; ``scales`` multiply size-dependent ones (e.g. ``{"ca_decay_ms": 2}``, a pool
+    whose AHPs last twice as long); ``unit_type`` defaults to ``unit_type_of(size)``; ``overrides`` replace any
+    field (e.g. ``neuromodulation=0`` removes the PIC, ``axon_length_mm=900`` for a human leg)."""
     x = finite_number("motoneuron size index", size)
     if not 0.0 <= x <= 1.0:
         raise InputError(f"motoneuron size index must lie in [0, 1], got {x}")
     values = {k: lo * math.exp(x * math.log(hi / lo)) for k, (lo, hi) in SIZE_RANGE.items()}
+    for k, factor in (scales or {}).items():
+        if k not in SIZE_RANGE:
+            raise InputError(f"motoneuron scale {k!r}: only size-dependent parameters scale ({', '.join(SIZE_RANGE)})")
+        values[k] *= positive_number(f"motoneuron scale {k}", factor)
     p = MotoneuronParameters(**values, unit_type=unit_type or unit_type_of(x), size=x)
     unknown = set(overrides) - {f.name for f in fields(MotoneuronParameters)}
     if unknown:
@@ -167,49 +206,75 @@ class Motoneuron:
             m = self.soma(0.5).mn_soma
             m.gnaf, m.gkdr, m.gcan, m.gkca = (p.g_naf_S_per_cm2, p.g_kdr_S_per_cm2, p.g_can_S_per_cm2,
                                               p.g_kca_S_per_cm2)
-            m.ena, m.ek, m.depth, m.taur = p.ena_mV, p.ek_mV, p.ca_depth_um, p.ca_decay_ms
+            m.ena, m.ek, m.depth, m.taur, m.kd = p.ena_mV, p.ek_mV, p.ca_depth_um, p.ca_decay_ms, p.kca_kd_mM
             self.dend.insert("mn_pic")
             for s in self.dend:
-                s.mn_pic.gbar, s.mn_pic.vhalf, s.mn_pic.slope = p.g_cal_S_per_cm2, p.cal_vhalf_mV, p.cal_slope_mV
+                s.mn_pic.gbar, s.mn_pic.vhalf, s.mn_pic.slope = p.g_pic_S_per_cm2, p.cal_vhalf_mV, p.cal_slope_mV
             return
         for mech in ("mn_naf", "mn_kdr", "mn_can", "mn_cadyn", "mn_kca"):
             self.soma.insert(mech)
         seg = self.soma(0.5)
         seg.mn_naf.gbar, seg.mn_kdr.gbar = p.g_naf_S_per_cm2, p.g_kdr_S_per_cm2
-        seg.mn_can.gbar, seg.mn_kca.gbar = p.g_can_S_per_cm2, p.g_kca_S_per_cm2
+        seg.mn_can.gbar, seg.mn_kca.gbar, seg.mn_kca.kd = p.g_can_S_per_cm2, p.g_kca_S_per_cm2, p.kca_kd_mM
         seg.mn_cadyn.depth, seg.mn_cadyn.taur = p.ca_depth_um, p.ca_decay_ms
         self.soma.ena, self.soma.ek = p.ena_mV, p.ek_mV
         self.dend.insert("mn_cal")
         for s in self.dend:
-            s.mn_cal.gbar, s.mn_cal.vhalf, s.mn_cal.slope = p.g_cal_S_per_cm2, p.cal_vhalf_mV, p.cal_slope_mV
+            s.mn_cal.gbar, s.mn_cal.vhalf, s.mn_cal.slope = p.g_pic_S_per_cm2, p.cal_vhalf_mV, p.cal_slope_mV
 
     @property
     def axon_delay_ms(self) -> float:
         """Conduction delay (ms) from the soma to the muscle unit."""
         return self.params.axon_delay_ms
 
+    def membrane_area_um2(self) -> float:
+        """Total membrane area of soma and dendrite (um2)."""
+        from neuron import h
+
+        return float(sum(h.area(seg.x, sec=seg.sec) for sec in (self.soma, self.dend) for seg in sec))
+
+    def play_synaptic_conductance(self, times_ms: Any, conductance_uS: Any, events: bool = True) -> list[Any]:
+        """Excitatory synaptic conductance on the whole cell, reversal SYNAPTIC_REVERSAL_MV: ``conductance_uS`` (uS,
+        the cell's total, numbers) from each of ``times_ms`` (a hoc Vector, ms) to the next, spread uniformly
+        over the membrane of soma and dendrite (mod/mn_syn.mod, which NEURON and CoreNEURON both run; one Vector.play a
+        segment, its values set as events at those times, not interpolated every step).  events=False: a continuous
+        play of the same steps (each value held to the next time: CoreNEURON plays no events into a density
+        mechanism).  Returns the Vectors to keep alive."""
+        from neuron import h
+
+        density = 100.0 / self.membrane_area_um2()   # S/cm2 per uS of the cell's total: 1e-6 S / (A um2 * 1e-8)
+        values = np.asarray(conductance_uS, float) * density
+        kept = []
+        if not events:  # each value held until the next time: two knots at every step
+            t = np.asarray(times_ms, float)
+            times_ms = h.Vector(np.repeat(t, 2)[1:])
+            values = np.repeat(values, 2)[:-1] if values.size == t.size else values
+            kept.append(times_ms)
+        for sec in (self.soma, self.dend):
+            sec.insert("mn_syn")
+            for seg in sec:
+                seg.mn_syn.e, seg.mn_syn.g = SYNAPTIC_REVERSAL_MV, 0.0
+                g = h.Vector(values)
+                g.play(seg._ref_g_mn_syn, times_ms, 0 if events else 1)
+                kept.append(g)
+        return kept
+
     def spike_source(self) -> Any:
         """The soma's membrane potential reference (a NetCon source; give ``section=self.soma``)."""
         return self.soma(0.5)._ref_v
 
     def input_resistance_MOhm(self) -> float:
-        """Input resistance at the soma (MOhm) with all active channels as at rest (NEURON's Impedance at 0 Hz,
-        after ``finitialize`` at the leak reversal)."""
+        """Input resistance at the soma (MOhm): NEURON's Impedance at 0 Hz after ``finitialize`` at the leak
+        reversal, each mechanism contributing its conductance at rest (di/dv).  This equals the steady response to
+        a small current step (tests/pool/test_motoneuron_physiology.py); NEURON 9.0's extended impedance
+        (``compute(0, 1)``) gives less than half of it for these cells, even with every channel removed."""
         from neuron import h
 
-        # the extended impedance asks each mechanism for its CVODE Jacobian; the fused channels give it only while
-        # CVODE is on (under the fixed step their DERIVATIVE block advances the gates itself)
-        cv = h.CVode()
-        was_active = cv.active()
-        cv.active(1)
-        try:
-            h.finitialize(self.params.e_leak_mV)
-            imp = h.Impedance()
-            imp.loc(0.5, sec=self.soma)
-            imp.compute(0, 1)
-            return float(imp.input(0.5, sec=self.soma))
-        finally:
-            cv.active(was_active)
+        h.finitialize(self.params.e_leak_mV)
+        imp = h.Impedance()
+        imp.loc(0.5, sec=self.soma)
+        imp.compute(0, 0)
+        return float(imp.input(0.5, sec=self.soma))
 
     def destroy(self) -> None:
         """Remove the sections from NEURON (idempotent)."""
@@ -217,7 +282,7 @@ class Motoneuron:
             if hasattr(self, attr):
                 delattr(self, attr)
 
-    def __enter__(self) -> "Motoneuron":
+    def __enter__(self) -> Motoneuron:
         return self
 
     def __exit__(self, *exc: object) -> None:

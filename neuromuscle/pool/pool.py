@@ -3,11 +3,13 @@ ParallelContext (the motoneuron's soma is the gid's spike source; its muscle uni
 delay), round-robin over MPI ranks.
 
     pool = Pool(PoolDefinition(100, load_parameters("CT09")), length=-8.0)
-    pool.drive_current_ramp([0, 2000, 4000], [0, 20, 0])        # a common current (nA) at every soma
+    pool.drive_synaptic([0, 2000, 4000], [0, 0.3, 0])            # a common synaptic conductance (uS a cell)
     result = pool.run(4000.0)                                     # PoolResult: spikes, unit and pool force
     pool.destroy()
 
-Drives: ``drive_current_ramp`` (a common current, nA, linear between the given times), ``drive_poisson``
+Drives: ``drive_synaptic`` (a common excitatory synaptic conductance, uS, linear between the given times: the
+same total on every motoneuron, spread over its membrane; the physiological drive, its rates saturate),
+``drive_current_ramp`` (a common current, nA, linear between the given times), ``drive_poisson``
 (independent Poisson synaptic input per motoneuron, excitatory conductance), ``drive_discharges`` (recorded
 discharge times delivered to the muscle units: no motoneurons are built).  Length: one MuscleLength per rank
 shared by its units (``per_unit_length=False``) or one per unit; a float (mm) or a LengthTrace.
@@ -16,6 +18,10 @@ Muscle sections: all of a rank's muscle units sit on one section (the default, c
 on its own with its own MuscleLength (``per_unit_section=True``): then NEURON's local variable time step
 (``Simulator(method="cvode", local_dt=True)``) integrates every unit and every motoneuron apart, so a spike
 interrupts only the unit it reaches.
+
+Engines: ``engine="coreneuron"`` runs the fixed step in CoreNEURON (``neuromuscle.sim.simulator``); spikes, unit
+forces and the pool force come back as under NEURON.  CoreNEURON records every step: the run is made in chunks
+that hold at most ``STEP_RECORD_BUDGET_BYTES`` of recorded steps per rank, sampled every record_dt_ms between them.
 """
 
 from __future__ import annotations
@@ -27,10 +33,11 @@ import numpy as np
 
 from ..errors import InputError
 from ..model.kim_unit import kim_fused
-from ..model.unit import MuscleUnit
+from ..sim.unit import MuscleUnit
 from ..protocols.lengths import LengthTrace
 from ..sim import Simulator
-from ..sim.recordings import on_time_grid, sample_count, sample_times_ms
+from ..sim.recordings import Recorder, on_time_grid
+from ..sim.simulator import ENGINES
 from ..validate import check_spike_times, finite_number, nonnegative_number, positive_number, seed_value
 from .definition import PoolDefinition, UnitSpec
 from .motoneuron import Motoneuron
@@ -38,6 +45,12 @@ from .result import PoolResult
 
 #: NetCon threshold (mV) of the soma spike detector.
 SPIKE_THRESHOLD_MV = -10.0
+
+#: Memory (bytes per rank) that every-step recordings may fill before their samples are taken out (CoreNEURON).
+STEP_RECORD_BUDGET_BYTES = 64 * 2**20
+#: The synaptic drive is held constant over steps of this length (ms), set by events: far cheaper than an
+#: interpolation every time step, and finer than anything a drive of muscle force needs.
+SYNAPTIC_STEP_MS = 5.0
 
 
 def _nobody() -> None:
@@ -56,11 +69,11 @@ class Pool:
     """The pool's units owned by this rank (gid % nhost == rank); see the module docstring."""
 
     #: The pool whose common current plays into CommonClamp's shared amplitude (one at a time per process).
-    _common_owner: Callable[[], "Pool | None"] = _nobody
+    _common_owner: Callable[[], Pool | None] = _nobody
 
     def __init__(self, definition: PoolDefinition, *, length: LengthTrace | float = -8.0,
-                 per_unit_length: bool = False, motoneurons: bool = True, per_unit_section: bool = False
-                 ) -> None:
+                 per_unit_length: bool = False, motoneurons: bool = True, per_unit_section: bool = False,
+                 engine: str = "neuron") -> None:
         from ..model.mechanisms import load_mechanisms
 
         load_mechanisms()
@@ -68,6 +81,9 @@ class Pool:
 
         if not isinstance(definition, PoolDefinition):
             raise InputError(f"definition must be a PoolDefinition, got {type(definition).__name__}")
+        if engine not in ENGINES:
+            raise InputError(f"pool {definition.name!r}: engine must be one of {', '.join(ENGINES)}, got {engine!r}")
+        self.engine = engine
         pc = parallel_context()
         self.rank, self.nhost = int(pc.id()), int(pc.nhost())
         if self.nhost > definition.n_units:
@@ -159,6 +175,27 @@ class Pool:
         self._clamps: list[Any] = []
         self._clamp_kind: str | None = None
 
+    def drive_synaptic(self, times_ms: Sequence[float], conductance_uS: Sequence[float]) -> None:
+        """Common excitatory synaptic drive: every motoneuron receives the same total conductance (uS, linear
+        between times_ms, ms; held in SYNAPTIC_STEP_MS steps), spread uniformly over its soma and dendrite,
+        reversal 0 mV.  The same input on every cell recruits the small cells first (their membrane is smaller:
+        Henneman's size principle), and the conductance saturates the rates as the membrane depolarises towards
+        the reversal (Powers & Heckman 2017).  Motoneuron.play_synaptic_conductance does the wiring."""
+        from neuron import h
+
+        t = check_spike_times(times_ms, "synaptic drive times")
+        g = np.array([nonnegative_number(f"synaptic conductance {i} (uS)", x) for i, x in enumerate(conductance_uS)])
+        if g.size != t.size or t.size < 2:
+            raise InputError(f"synaptic drive: {t.size} times and {g.size} conductances (need equal, >= 2)")
+        self._set_drive("synaptic")
+        grid = np.arange(t[0], t[-1] + SYNAPTIC_STEP_MS, SYNAPTIC_STEP_MS)
+        steps = np.interp(grid + 0.5 * SYNAPTIC_STEP_MS, t, g)   # each step holds the drive at its middle
+        tv = h.Vector(grid)
+        self._keep.append(tv)
+        events = self.engine != "coreneuron"
+        for cell in self.cells.values():
+            self._keep.extend(cell.play_synaptic_conductance(tv, steps, events=events))
+
     def _attach_current(self, sim: Simulator) -> None:
         """Build the common current's clamps for this run: one CommonClamp per soma and one Vector.play into
         their shared amplitude (the cheap way), or, where a play into a shared value is not possible (NEURON's
@@ -166,7 +203,8 @@ class Pool:
         soma.  Both inject the same current."""
         from neuron import h
 
-        kind = "iclamp" if sim.local_dt or sim.nthread > 1 else "common"
+        # CoreNEURON plays vectors into mechanism instances only, not into a GLOBAL
+        kind = "iclamp" if sim.local_dt or sim.nthread > 1 or sim.engine == "coreneuron" else "common"
         owner = Pool._common_owner()
         if kind == "common" and owner is not None and owner is not self:
             kind = "iclamp"     # another live pool's current drives CommonClamp's shared amplitude
@@ -235,40 +273,40 @@ class Pool:
     def run(self, duration_ms: float, simulator: Simulator | None = None, record_dt_ms: float = 1.0) -> PoolResult:
         """Run 0..duration_ms (ms) and gather spikes and forces from every rank (every rank gets the result).
         Unit forces sampled every record_dt_ms (ms); the pool force is their sum (N)."""
-        from neuron import h
 
         positive_number("duration_ms", duration_ms)
         positive_number("record_dt_ms", record_dt_ms)
         if self._drive is None:
-            raise InputError(f"pool {self.definition.name!r}: no drive (drive_current_ramp, drive_poisson or "
-                             "drive_discharges)")
+            raise InputError(f"pool {self.definition.name!r}: no drive (drive_synaptic, drive_current_ramp, "
+                             "drive_poisson or drive_discharges)")
         if self._drive == "discharges":
             last = max((d[-1] for d in self._discharges.values() if d.size), default=0.0)
             if last > duration_ms:
                 raise InputError(f"discharges reach {last:g} ms, beyond the run of {duration_ms:g} ms")
-        sim = simulator or Simulator(method="fixed", dt_ms=0.025)
+        sim = simulator or Simulator(method="fixed", dt_ms=0.025, engine=self.engine)
+        if sim.engine != self.engine:
+            raise InputError(f"pool {self.definition.name!r} was built for engine {self.engine!r}, the simulator "
+                             f"asks for {sim.engine!r}: give Pool(..., engine={sim.engine!r}) or a simulator with "
+                             f"engine={self.engine!r}")
         if sim.v_init_mV is None:
             from dataclasses import replace
 
             sim = replace(sim, v_init_mV=-70.0)
         if self._drive == "current":
             self._attach_current(sim)
-        vecs = {gid: h.Vector() for gid in self.muscle}
-        # under CVODE at explicit sample times (see sim.recordings.Recorder: NEURON 9.0.2 aborts when an interval
-        # recording's accumulated time falls a rounding error short of a played breakpoint)
-        times = None
-        if sim.method == "cvode":
-            times = h.Vector(sample_times_ms(record_dt_ms, sample_count(duration_ms, record_dt_ms)))
-        for gid, v in vecs.items():
-            u = self.muscle[gid]
-            if times is None:
-                v.record(u[u.output_slot].obj, u.ref(u.output), record_dt_ms)
-            else:
-                v.record(u[u.output_slot].obj, u.ref(u.output), times)
+        # every step under CoreNEURON (and on several threads: see Recorder), at explicit sample times under CVODE
+        stepwise = sim.method == "fixed" and (sim.nthread > 1 or sim.engine == "coreneuron")
+        recorders = {gid: Recorder(u, [u.output], record_dt_ms, every_step_dt_ms=sim.dt_ms if stepwise else None,
+                                   at_times_until_ms=duration_ms if sim.method == "cvode" else None)
+                     for gid, u in self.muscle.items()}
+        chunk = None
+        if stepwise and recorders:
+            steps_per_ms = len(recorders) / sim.dt_ms
+            chunk = max(record_dt_ms, STEP_RECORD_BUDGET_BYTES / (8.0 * steps_per_ms))
         pc = parallel_context()
-        wall = sim.run(duration_ms, units=list(self.muscle.values()))
-        n = sample_count(duration_ms, record_dt_ms)
-        local_force = {gid: _fixed_length(np.array(v), n) for gid, v in vecs.items()}
+        wall = sim.run(duration_ms, units=list(self.muscle.values()), chunk_ms=chunk,
+                       after_chunk=lambda: [r.take() for r in recorders.values()])
+        local_force = {gid: r.arrays(duration_ms)[1][self.muscle[gid].output] for gid, r in recorders.items()}
         if self._drive == "discharges":
             local_spikes = {gid: self._discharges[gid] for gid in self.muscle}
         else:
@@ -307,15 +345,8 @@ class Pool:
             del self._sec
         pc.gid_clear()
 
-    def __enter__(self) -> "Pool":
+    def __enter__(self) -> Pool:
         return self
 
     def __exit__(self, *exc: object) -> None:
         self.destroy()
-
-
-def _fixed_length(a: np.ndarray, n: int) -> np.ndarray:
-    """Interval recordings may stop one sample short of tstop: pad with the last value."""
-    if a.size >= n:
-        return a[:n]
-    return np.concatenate([a, np.full(n - a.size, a[-1] if a.size else 0.0)])

@@ -58,7 +58,7 @@ class PoolResult:
     @classmethod
     def from_gathered(cls, definition: Any, force: Mapping[int, np.ndarray], spikes: Mapping[int, np.ndarray],
                       record_dt_ms: float, duration_ms: float, sim: Any, *, drive: str, ranks: int,
-                      wall_s: float, length: Any) -> "PoolResult":
+                      wall_s: float, length: Any) -> PoolResult:
         """Assemble from the per-gid dicts gathered from every rank."""
         specs = definition.units()
         f = np.array([force[u.index] for u in specs])

@@ -1,17 +1,22 @@
 """Run one pool on any number of MPI ranks; rank 0 writes the result (HDF5) and prints a JSON report.
 
     mpiexec -n 2 python -m neuromuscle.pool.run_mpi --units 6 --duration-ms 300 --drive poisson --out pool.h5
-    python -m neuromuscle.pool.run_mpi --units 6 --duration-ms 300 --drive ramp --json     # one rank
+    python -m neuromuscle.pool.run_mpi --units 6 --duration-ms 300 --drive synaptic --json     # one rank
 
 The units are placed round robin (gid % ranks); every rank simulates its own, spikes cross ranks by
 ParallelContext's exchange every ``min(axon delay)``, forces and spikes are gathered to every rank, and only rank
 0 writes.  Bad input (more ranks than units, an existing --out without --overwrite, impossible values) stops every
 rank before anything is built or written, with one message and exit code 2.
 
-The JSON report: n_units, ranks, duration_ms, dt_ms, method, drive, startup_s (interpreter, NEURON, mechanisms),
+``--engine coreneuron`` integrates in CoreNEURON (fixed step; its mechanisms compile on first use).
+
+The JSON report: n_units, ranks, duration_ms, dt_ms, method, engine, drive, startup_s (interpreter, NEURON, mechanisms),
 build_s (cells, units, drive), sim_s (integration, slowest rank), wall_s (build + integration + gathering),
-s_per_unit_s (sim_s per simulated unit-second), spikes (motoneuron spikes, all units), peak_rss_mib (largest
-rank) and peak_rss_mib_per_rank, pool_force_peak_N, and ``out`` when a file was written.  Units: s, ms, MiB, N.
+s_per_unit_s (sim_s per simulated unit-second), spikes (motoneuron spikes, all units), mean_rate_hz (spikes per
+unit-second), peak_rss_mib (largest rank) and peak_rss_mib_per_rank, pool_force_peak_N, and ``out`` when a file
+was written.  Drives: ``synaptic`` (a common synaptic conductance rising linearly to --synaptic-peak-us over the
+run: every unit recruited, rates within those of human motor units), ``ramp`` (a common current to
+--ramp-peak-na), ``poisson`` (independent Poisson excitation).  Units: s, ms, MiB, N, uS, nA, Hz.
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ import time
 from dataclasses import dataclass
 from typing import Any, Sequence
 
+from ..sim.simulator import ENGINES
 from .motoneuron import CHANNELS
 
 _START = time.perf_counter()
@@ -45,7 +51,8 @@ class PoolRun:
     rate_hz: float = 400.0
     weight_uS: float = 0.15
     seed: int = 0
-    ramp_peak_nA: float = 12.0
+    ramp_peak_nA: float = 40.0
+    synaptic_peak_uS: float = 0.6
     smallest_p0_N: float = 0.2
     p0_range: float = 20.0
     length_mm: float = -8.0
@@ -54,6 +61,7 @@ class PoolRun:
     substeps: int = 1
     nthread: int = 1
     channels: str = "fused"
+    engine: str = "neuron"
 
 
 def parser() -> argparse.ArgumentParser:
@@ -68,13 +76,16 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--atol", type=float, default=d.atol, help="CVODE absolute tolerance")
     ap.add_argument("--local-dt", action="store_true",
                     help="with --method cvode: NEURON's local variable time step, each unit on its own section")
-    ap.add_argument("--drive", choices=("poisson", "ramp"), default=d.drive,
+    ap.add_argument("--drive", choices=("poisson", "ramp", "synaptic"), default=d.drive,
                     help="poisson: independent Poisson excitation per motoneuron; ramp: common current 0 -> "
-                         "--ramp-peak-na over the run")
+                         "--ramp-peak-na over the run; synaptic: common synaptic conductance 0 -> "
+                         "--synaptic-peak-us over the run")
     ap.add_argument("--rate-hz", type=float, default=d.rate_hz, help="Poisson rate per motoneuron (Hz)")
     ap.add_argument("--weight-us", type=float, default=d.weight_uS, help="Poisson synaptic weight (uS)")
     ap.add_argument("--seed", type=int, default=d.seed, help="Poisson seed (Random123 stream seed, gid)")
     ap.add_argument("--ramp-peak-na", type=float, default=d.ramp_peak_nA)
+    ap.add_argument("--synaptic-peak-us", type=float, default=d.synaptic_peak_uS,
+                    help="peak of the synaptic drive (uS, each cell's total conductance)")
     ap.add_argument("--smallest-p0-n", type=float, default=d.smallest_p0_N)
     ap.add_argument("--p0-range", type=float, default=d.p0_range)
     ap.add_argument("--length-mm", type=float, default=d.length_mm)
@@ -86,6 +97,8 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--nthread", type=int, default=d.nthread, help="NEURON threads per rank")
     ap.add_argument("--channels", choices=CHANNELS, default=d.channels,
                     help="motoneuron channels: fused (mn_soma + mn_pic) or separate (one mechanism each)")
+    ap.add_argument("--engine", choices=ENGINES, default=d.engine,
+                    help="neuron, or coreneuron (NEURON's compute engine; fixed step only)")
     ap.add_argument("--out", default=None, help="HDF5 result (written by rank 0)")
     ap.add_argument("--overwrite", action="store_true")
     ap.add_argument("--json", action="store_true", help="print the JSON report (rank 0)")
@@ -96,9 +109,10 @@ def _config(args: argparse.Namespace) -> PoolRun:
     return PoolRun(n_units=args.units, params=args.params, duration_ms=args.duration_ms, dt_ms=args.dt_ms,
                    method=args.method, atol=args.atol, local_dt=args.local_dt, drive=args.drive,
                    rate_hz=args.rate_hz, weight_uS=args.weight_us, seed=args.seed, ramp_peak_nA=args.ramp_peak_na,
+                   synaptic_peak_uS=args.synaptic_peak_us,
                    smallest_p0_N=args.smallest_p0_n, p0_range=args.p0_range, length_mm=args.length_mm,
                    record_dt_ms=args.record_dt_ms, muscle=args.muscle, substeps=args.substeps,
-                   nthread=args.nthread, channels=args.channels)
+                   nthread=args.nthread, channels=args.channels, engine=args.engine)
 
 
 def peak_rss_mib() -> float:
@@ -123,17 +137,22 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
                                 motoneuron_channels=cfg.channels)
     definition.units()
     sim = Simulator(method=cfg.method, dt_ms=cfg.dt_ms, atol=cfg.atol, v_init_mV=-70.0, max_wall_s=None,
-                    local_dt=cfg.local_dt, nthread=cfg.nthread, label=f"pool of {cfg.n_units} units")
-    from ..model.mechanisms import load_mechanisms
+                    local_dt=cfg.local_dt, nthread=cfg.nthread, label=f"pool of {cfg.n_units} units",
+                    engine=cfg.engine)
+    from ..model.mechanisms import coreneuron_library, load_mechanisms
 
     load_mechanisms()
+    if cfg.engine == "coreneuron":
+        coreneuron_library()  # compiled (or found) before the clock starts
     pc = parallel_context()
     pc.barrier()
     startup = time.perf_counter() - _START
     t0 = time.perf_counter()
-    with Pool(definition, length=cfg.length_mm, per_unit_section=cfg.local_dt) as pool:
+    with Pool(definition, length=cfg.length_mm, per_unit_section=cfg.local_dt, engine=cfg.engine) as pool:
         if cfg.drive == "poisson":
             pool.drive_poisson(cfg.rate_hz, cfg.weight_uS, seed=cfg.seed)
+        elif cfg.drive == "synaptic":
+            pool.drive_synaptic([0.0, cfg.duration_ms], [0.0, cfg.synaptic_peak_uS])
         else:
             pool.drive_current_ramp([0.0, cfg.duration_ms], [0.0, cfg.ramp_peak_nA])
         build = max(pc.py_allgather(time.perf_counter() - t0))
@@ -142,11 +161,13 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
     rss = [float(x) for x in pc.py_allgather(peak_rss_mib())]
     unit_s = cfg.n_units * cfg.duration_ms / 1000.0
     report = {"n_units": cfg.n_units, "ranks": nhost, "duration_ms": cfg.duration_ms,
-              "dt_ms": cfg.dt_ms if cfg.method == "fixed" else None, "method": cfg.method, "muscle": cfg.muscle,
+              "dt_ms": cfg.dt_ms if cfg.method == "fixed" else None, "method": cfg.method, "engine": cfg.engine,
+              "muscle": cfg.muscle,
               "substeps": cfg.substeps, "nthread": cfg.nthread, "channels": cfg.channels,
               "local_dt": cfg.local_dt, "drive": cfg.drive,
               "startup_s": startup, "build_s": build, "sim_s": result.wall_s, "wall_s": wall,
               "s_per_unit_s": result.wall_s / unit_s, "spikes": int(sum(s.size for s in result.spikes_ms)),
+              "mean_rate_hz": sum(s.size for s in result.spikes_ms) / unit_s,
               "peak_rss_mib": max(rss), "peak_rss_mib_per_rank": rss,
               "pool_force_peak_N": float(result.pool_force_N.max())}
     return result, report

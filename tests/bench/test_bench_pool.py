@@ -58,3 +58,19 @@ def test_bench_pool_defaults_are_the_fast_path_and_the_reference_is_a_flag(capsy
 def test_bench_pool_refuses_bad_configurations(kw):
     with pytest.raises(InputError):
         bench_pool(**kw)
+
+
+def test_bench_pool_runs_both_engines_and_compares_them(capsys):
+    assert main(["bench", "pool", "--json", "--units", "3", "--ranks", "1", "--duration-ms", "60", "--engines",
+                 "neuron,coreneuron"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert [r["engine"] for r in res["runs"]] == ["neuron", "coreneuron"]
+    for r in res["runs"]:
+        assert r["ns_per_cell_step_per_core"] == pytest.approx(r["sim_s"] / (3 * 60 / 0.025) * 1e9)
+    (a,) = res["agreement"]
+    assert a["engines"] == ["neuron", "coreneuron"] and a["spikes"] == res["runs"][0]["spikes"] > 0
+    assert a["spikes_identical"] and a["forces_identical"] and a["pool_force_max_diff_of_peak"] == 0.0
+    lines = table_lines(res)
+    assert len(lines) == 4 + 2 + 4 and "coreneuron" in lines[5] and "neuron vs coreneuron" in lines[-1]
+    with pytest.raises(InputError, match="engines"):
+        bench_pool(units=[2], engines=["neuron", "neuron"])

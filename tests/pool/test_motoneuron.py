@@ -51,10 +51,11 @@ def test_fi_slope_is_positive_and_physiological(rheobases):
 
 
 def test_pic_gives_hysteresis_on_a_triangle():
+    # a triangle to 2.5 rheobase (4.6 nA without the PIC), 5 s each way
     with Motoneuron(motoneuron_parameters(0.0)) as mn:
-        with_pic = triangle_hysteresis(mn, 1.0, rise_ms=1500.0)
-    with Motoneuron(motoneuron_parameters(0.0, g_cal_S_per_cm2=0.0)) as mn:
-        no_pic = triangle_hysteresis(mn, 3.0, rise_ms=1500.0)
+        with_pic = triangle_hysteresis(mn, 11.5, rise_ms=5000.0)
+    with Motoneuron(motoneuron_parameters(0.0, neuromodulation=0.0)) as mn:
+        no_pic = triangle_hysteresis(mn, 11.5, rise_ms=5000.0)
     assert with_pic.delta_nA < 0.0  # fires on below its recruitment current
     assert no_pic.delta_nA > 0.0    # without the PIC, adaptation: derecruited above recruitment
     assert with_pic.on_nA < no_pic.on_nA
@@ -75,3 +76,10 @@ def test_bad_parameters_are_refused(bad):
     size = bad.pop("size")
     with pytest.raises(InputError):
         motoneuron_parameters(size, **bad)
+
+
+def test_scales_multiply_size_dependent_parameters_only():
+    base, slow = motoneuron_parameters(0.3), motoneuron_parameters(0.3, scales={"ca_decay_ms": 2.0})
+    assert slow.ca_decay_ms == pytest.approx(2.0 * base.ca_decay_ms) and slow.soma_diam_um == base.soma_diam_um
+    with pytest.raises(InputError, match="only size-dependent"):
+        motoneuron_parameters(0.3, scales={"ek_mV": 2.0})

@@ -12,7 +12,7 @@ DT = 0.025
 
 def _spikes(channels: str, size: float, *, table: bool = True, method: str = "fixed", dt_ms: float = DT,
             duration_ms: float = 1000.0) -> np.ndarray:
-    """Spike times (ms) of one cell under a current ramp 0 -> 3 rheobase-ish nA with a step in the middle (the
+    """Spike times (ms) of one cell under a current ramp 0 -> 3 rheobase with a step to 5 in the middle (the
     PIC turns on, the AHP calcium builds up)."""
     from neuron import h
 
@@ -26,7 +26,8 @@ def _spikes(channels: str, size: float, *, table: bool = True, method: str = "fi
             ic = h.IClamp(mn.soma(0.5))
             ic.delay, ic.dur = 0.0, 1e9
             tv = h.Vector([0.0, 400.0, 400.0, duration_ms])
-            av = h.Vector([0.0, 8.0 + 20 * size, 14.0 + 30 * size, 4.0 + 10 * size])
+            rheobase = 4.6 * 3.9 ** size    # nA, the cells' measured rheobase (tests/pool/test_motoneuron_physiology)
+            av = h.Vector([0.0, 3.0 * rheobase, 5.0 * rheobase, 2.0 * rheobase])
             av.play(ic._ref_amp, tv, 1)
             out = h.Vector()
             nc = h.NetCon(mn.spike_source(), None, sec=mn.soma)

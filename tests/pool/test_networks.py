@@ -5,6 +5,7 @@ import sys
 from pathlib import Path
 
 import h5py
+import numpy as np
 import pytest
 
 from neuromuscle.pool import load_pool_result
@@ -55,3 +56,19 @@ def test_recorded_discharges_default(tmp_path):
         assert f.attrs["force_unit"] == "% MVC" and f["p0"].shape == (17,)
         assert f["predicted_force"].shape == f["recorded_force"].shape
     assert (tmp_path / "out" / "recorded_discharges.png").stat().st_size > 10_000
+
+
+@pytest.mark.skipif(not CAILLET.is_dir(), reason=f"Caillet real-data folder {CAILLET} is absent")
+def test_pool_vs_recorded_briefly(tmp_path):
+    s = _script("pool_vs_recorded").main(["--out", str(tmp_path / "out"), "--units", "12", "--corrections", "1",
+                                          "--dt-ms", "0.05"])
+    row = s["files"][0]
+    assert row["file"] == "S1_30_36L.mat" and row["muscle"] == "TA"
+    assert row["nrmse_percent"] < 10.0 < row["nrmse_percent_passes"][0]   # the correction brings the force in
+    crit = row["summary"]["criteria"]
+    assert set(crit) == {"medians_inside", "peak_ratio", "thresholds_ks", "onion_skin", "delta_f_hz"}
+    assert row["summary"]["model_units"] >= 3 and crit["peak_ratio"]["value"] < 3.0
+    assert np.isfinite(crit["delta_f_hz"]["recorded"])
+    for name in ("S1_30_36L.png", "S1_30_36L.json", "S1_30_36L_pool.h5", "pool_vs_recorded.md"):
+        assert (tmp_path / "out" / name).stat().st_size > 200
+    assert load_pool_result(tmp_path / "out" / "S1_30_36L_pool.h5").drive == "synaptic"

@@ -1,7 +1,6 @@
 """Pools: size-principle recruitment under a common ramp, recorded discharges, Poisson drive, per-unit extensions,
 HDF5 with provenance, summary figure, bad input refused with nothing written."""
 
-import h5py
 import numpy as np
 import pytest
 
@@ -21,7 +20,7 @@ def test_p0_spread_and_twitch_speed(ct09):
 
 def _ramp_run(ct09):
     with Pool(PoolDefinition(4, ct09, smallest_p0_N=0.2, p0_range=20.0)) as pool:
-        pool.drive_current_ramp([0.0, 150.0, 300.0], [0.0, 12.0, 6.0])
+        pool.drive_current_ramp([0.0, 150.0, 300.0], [0.0, 40.0, 20.0])
         r = pool.run(300.0)
         return r, pool._clamp_kind
 
@@ -52,7 +51,7 @@ def test_common_clamp_and_per_soma_iclamps_give_the_same_pool(ct09):
 def test_ramp_recruits_in_size_order_and_saves(ct09, tmp_path):
     d = PoolDefinition(6, ct09, smallest_p0_N=0.2, p0_range=20.0)
     with Pool(d) as pool:
-        pool.drive_current_ramp([0.0, 600.0], [0.0, 12.0])
+        pool.drive_current_ramp([0.0, 600.0], [0.0, 40.0])
         r = pool.run(600.0)
     first = [s[0] for s in r.spikes_ms if s.size]
     assert len(first) >= 4 and np.all(np.diff(first) > 0)  # smaller cells first (Henneman)
@@ -129,3 +128,17 @@ def test_more_ranks_than_units_is_refused(ct09, monkeypatch):
     monkeypatch.setattr(mod, "parallel_context", lambda: TwoRanks())
     with pytest.raises(InputError, match="2 MPI ranks for 1 units"):
         Pool(PoolDefinition(1, ct09))
+
+
+def test_size_spacing_and_explicit_p0(ct09):
+    from neuromuscle.pool.definition import size_index
+
+    assert size_index(0.5, 1.0) == 0.5 and size_index(1.0, 20.0) == pytest.approx(1.0)
+    assert size_index(0.25, 20.0) == pytest.approx(np.log(5.75) / np.log(20.0))   # the low end spread out
+    d = PoolDefinition(3, ct09, size_spacing=20.0, p0_N=(1.0, 2.0, 5.0), motoneuron_scales={"ca_decay_ms": 1.5})
+    assert [u.muscle["P0"] for u in d.units()] == [1.0, 2.0, 5.0]
+    assert d.units()[1].motoneuron.size == pytest.approx(size_index(0.5, 20.0))
+    for bad in (dict(p0_N=(1.0, 2.0)), dict(size_spacing=0.5), dict(motoneuron_scales={"nonsense": 2.0}),
+                dict(neuromodulation=-1.0)):
+        with pytest.raises(InputError):
+            PoolDefinition(3, ct09, **bad)

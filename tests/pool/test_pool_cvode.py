@@ -10,9 +10,10 @@ from neuromuscle.pool import Pool, PoolDefinition
 
 
 def _ramp_pool(ct09, sim, **kw):
+    # a ramp to 3 rheobases of the largest unit (about 17 nA): every unit recruited, the first past 30 spikes
     with Pool(PoolDefinition(3, ct09, smallest_p0_N=0.2, p0_range=20.0), **kw) as pool:
-        pool.drive_current_ramp([0.0, 250.0], [0.0, 12.0])
-        return pool.run(250.0, sim)
+        pool.drive_current_ramp([0.0, 400.0], [0.0, 50.0])
+        return pool.run(400.0, sim)
 
 
 def _first_spike_gap_ms(a, b):

@@ -1,0 +1,195 @@
+"""A motoneuron pool that follows a recorded human force, its discharges compared with the decomposed ones.
+
+For each file of ../shared/real_data/human_mu_spike_trains_caillet (decomposed HD-EMG discharges and force of
+human tibialis anterior (TA) and gastrocnemius medialis (GM), trapezoidal isometric contractions at 30-50 % MVC;
+Caillet et al. 2022, 2023; read by path, never copied):
+1. the muscle's pool (``neuromuscle.pool.follow_force.HUMAN_MUSCLES``: unit types, published recruitment
+   thresholds, upper limit of recruitment 90 % MVC) runs one slow ramp of its common synaptic drive; the P0 spread
+   whose thresholds come closest to the published ones and the MVC drive follow (calibration, once per muscle);
+2. the drive that makes the pool's force (% of its MVC) follow the recorded force is the ramp's force-drive
+   relation inverted (rising branch, then falling branch after the plateau), corrected ``--corrections`` times by
+   the remaining error; the trial starts 0.5 s before the recorded force leaves its baseline, so that the pool
+   starts at rest as the muscle did;
+3. the pool's discharges are compared with the recorded ones (``neuromuscle.pool.recorded_comparison``): per-unit
+   median and peak rates, recruitment thresholds (KS distance), onion skin, paired-unit Delta F.
+The units are not matched one to one.
+
+Run: python networks/pool_vs_recorded.py --out DIR [--file F.mat ...] [--units N] [--corrections K] [--full]
+Default: S1_30_36L.mat, 40 units, one correction.  --full: every file, 80 units.  Writes, per file,
+DIR/<file>.png (force, rate against threshold, threshold distributions, rasters), DIR/<file>_pool.h5 (the pool
+run, provenance) and DIR/<file>.json; DIR/pool_vs_recorded.json (all files) and DIR/pool_vs_recorded.md (the
+table); prints the JSON.  Units: ms, Hz, % MVC, uS.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from neuromuscle.analysis.metrics import nrmse_percent
+from neuromuscle.pool.discharges import RecordedDischarges, load_caillet
+from neuromuscle.pool.follow_force import HUMAN_MUSCLES, Calibration, P0Spread, calibrate, run_drive
+from neuromuscle.pool.recorded_comparison import Comparison, compare_discharges
+from neuromuscle.reports.figures import label_axes, legend, new_figure, save_figure, set_title
+from neuromuscle.reports.outdir import prepare_out_dir
+
+DATA = Path(__file__).resolve().parents[1].parent / "shared" / "real_data" / "human_mu_spike_trains_caillet"
+ALL_FILES = ("S1_30_256.mat", "S1_30_64L.mat", "S1_30_36L.mat", "S1_50_256.mat", "S1_50_64L.mat", "TA_35_D.mat",
+             "TA_35_H.mat", "GM_30.mat")
+SUMMARY_FILES = ("pool_vs_recorded.json", "pool_vs_recorded.md")
+
+
+def muscle_of(path: Path) -> str:
+    """GM for the gastrocnemius files (name starting GM), TA otherwise."""
+    return "GM" if path.stem.upper().startswith("GM") else "TA"
+
+
+def lead_in_ms(rec: RecordedDischarges, baseline_percent: float = 1.0) -> float:
+    """How long before the first discharge the trial starts: from 500 ms before the force last rose from its
+    baseline (``baseline_percent``, % MVC), at least 1 s, so that the pool starts at rest as the muscle did."""
+    first = min(d[0] for d in rec.discharges_ms)
+    rest = np.flatnonzero((rec.force_t_ms < first) & (rec.force_percent_mvc <= baseline_percent))
+    start = rec.force_t_ms[rest[-1]] if rest.size else 0.0
+    return max(1000.0, first - start + 500.0)
+
+
+def follow(path: Path, cal: Calibration, spread: P0Spread, corrections: int, dt_ms: float) -> dict[str, Any]:
+    """Drive the calibrated pool so that its force follows the file's force; compare the discharges."""
+    rec = load_caillet(path)
+    trial = rec.trial(pad_ms=lead_in_ms(rec))
+    t, force = trial.force_t_ms, trial.force_percent_mvc
+    from neuromuscle.pool.discharge_stats import plateau_window_ms
+
+    plateau = plateau_window_ms(t, force)
+    times, drive = cal.drive_for(spread, t, force, descent_ms=plateau[1])
+    definition = spread.definition(cal)
+    errors = []
+    for k in range(corrections + 1):
+        result = run_drive(definition, times, drive, trial.duration_ms, dt_ms=dt_ms)
+        model = spread.percent_mvc(result.pool_force_N - result.pool_force_N[0])
+        errors.append(nrmse_percent(np.interp(result.t_ms, t, force), model))
+        print(f"{path.name}: pass {k}, force NRMSE {errors[-1]:.2f} % of the recorded range", file=sys.stderr)
+        if k < corrections:
+            times, drive = cal.correct_drive(spread, times, drive, result, t, force, descent_ms=plateau[1])
+    cmp = compare_discharges(trial, result.spikes_ms, result.t_ms, model)
+    return {"trial": trial, "result": result, "model_force": model, "times": times, "drive": drive,
+            "comparison": cmp, "nrmse_percent": errors}
+
+
+def figure(out: Path, name: str, run: dict[str, Any]) -> None:
+    """Force and drive; median rate against threshold; threshold distributions; rasters."""
+    trial, result, cmp = run["trial"], run["result"], run["comparison"]
+    c: Comparison = cmp
+    fig, axes = new_figure(4, height_ratios=[1.2, 1.2, 1.0, 1.6])
+    ax = axes[0]
+    ax.plot(trial.force_t_ms / 1000.0, trial.force_percent_mvc, color="k", lw=1.0, label="recorded force")
+    ax.plot(result.t_ms / 1000.0, run["model_force"], color="C3", lw=0.8, label="pool force")
+    ax2 = ax.twinx()
+    ax2.plot(run["times"] / 1000.0, run["drive"], color="C0", lw=0.6)
+    ax2.set_ylabel("drive (uS)", color="C0", fontsize=8)
+    label_axes(ax, x="time (s)", y="force (% MVC)")
+    legend(ax, small=True)
+    set_title(ax, f"{name}: the pool follows the recorded force (NRMSE {run['nrmse_percent'][-1]:.1f} %)")
+    ax = axes[1]
+    lo, hi = c.medians_range_hz
+    ax.axhspan(lo, hi, color="0.85", label="recorded 5th-95th pct of medians")
+    ax.plot(c.recorded.thresholds_percent, c.recorded.rates.median_hz, "o", ms=3, color="k", label="recorded units")
+    ax.plot(c.model.thresholds_percent, c.model.rates.median_hz, "x", ms=4, color="C3", label="model units")
+    label_axes(ax, x="recruitment threshold (% MVC)", y="median rate (Hz)")
+    legend(ax, small=True)
+    ax = axes[2]
+    crit = c.criteria()
+    for v, col, lab in ((c.recorded.thresholds_percent, "k", "recorded"), (c.model.thresholds_percent, "C3", "model")):
+        v = np.sort(v[np.isfinite(v)])
+        ax.step(v, np.arange(1, v.size + 1) / v.size, where="post", color=col, label=lab)
+    ax.text(0.98, 0.05, f"KS {crit['thresholds_ks']['value']:.2f}", transform=ax.transAxes, ha="right", fontsize=8)
+    label_axes(ax, x="recruitment threshold (% MVC)", y="fraction of units (1)")
+    legend(ax, small=True)
+    ax = axes[3]
+    rec = trial.discharges_ms
+    for i, d in enumerate(rec):
+        ax.plot(d / 1000.0, np.full(d.size, i), "|", ms=1.2, color="k")
+    for j, u in enumerate(c.model_units):
+        s = result.spikes_ms[u]
+        ax.plot(s / 1000.0, np.full(s.size, len(rec) + 2 + j), "|", ms=1.2, color="C3")
+    label_axes(ax, x="time (s)", y="unit (recorded, then model) (index)")
+    save_figure(fig, out)
+
+
+def table(rows: list[dict[str, Any]]) -> list[str]:
+    """The markdown table of the criteria, one row a file."""
+    lines = ["| file | units rec / model | force NRMSE % | median of medians Hz rec / model | model medians "
+             "inside rec 5-95 % | peak Hz rec max / model max (ratio) | thresholds KS | onion skin rho rec / "
+             "model | Delta F Hz rec / model |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        s, c = r["summary"], r["summary"]["criteria"]
+        rec, mod = s["recorded"], s["model"]
+        lo, hi = c["medians_inside"]["range_hz"]
+        lines.append(
+            f"| {r['file']} | {rec['units']} / {mod['units']} | {r['nrmse_percent']:.1f} | "
+            f"{rec['median_of_medians_hz']:.1f} / {mod['median_of_medians_hz']:.1f} | "
+            f"{c['medians_inside']['value']} ({lo:.1f}-{hi:.1f}) | {rec['peak_max_hz']:.1f} / {mod['peak_max_hz']:.1f}"
+            f" ({c['peak_ratio']['value']:.2f}) | {c['thresholds_ks']['value']:.2f} | "
+            f"{rec['onion_skin_rho']:.2f} / {mod['onion_skin_rho']:.2f} | "
+            f"{c['delta_f_hz']['recorded']:.1f} / {c['delta_f_hz']['value']:.1f} |")
+    return lines
+
+
+def main(argv: list[str] | None = None) -> dict[str, Any]:
+    """Command line (module docstring); returns the summary of every file."""
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", required=True, help="output folder")
+    ap.add_argument("--file", action="append", help="a Caillet .mat file (repeatable; default S1_30_36L.mat)")
+    ap.add_argument("--data-dir", default=str(DATA), help="folder of the Caillet files")
+    ap.add_argument("--units", type=int, default=None, help="model units (default 40, --full 80)")
+    ap.add_argument("--corrections", type=int, default=1, help="drive corrections after the inverted one")
+    ap.add_argument("--dt-ms", type=float, default=0.025, help="fixed step (ms)")
+    ap.add_argument("--full", action="store_true", help="every file, 80 units")
+    ap.add_argument("--overwrite", action="store_true")
+    a = ap.parse_args(argv)
+    names = list(ALL_FILES) if a.full and not a.file else (a.file or ["S1_30_36L.mat"])
+    paths = [Path(f) if Path(f).is_file() else Path(a.data_dir) / f for f in names]
+    stems = [p.stem for p in paths]
+    out = prepare_out_dir(a.out, a.overwrite, [*SUMMARY_FILES, *(f"{s}{x}" for s in stems
+                                                                   for x in (".png", ".json", "_pool.h5"))])
+    n = a.units or (80 if a.full else 40)
+    t0 = time.time()
+    calibrations: dict[str, tuple[Calibration, P0Spread]] = {}
+    rows = []
+    for path in paths:
+        m = muscle_of(path)
+        if m not in calibrations:
+            cal = calibrate(HUMAN_MUSCLES[m].definition(n), dt_ms=a.dt_ms)
+            calibrations[m] = (cal, cal.fit_p0_spread(HUMAN_MUSCLES[m]))
+            sp = calibrations[m][1]
+            print(f"{m}: P0 range {sp.range_ratio:.3g}, exponent {sp.exponent:.3g}, MVC drive "
+                  f"{sp.mvc_drive_uS:.3g} uS, thresholds {sp.rms_error_percent:.2f} % MVC rms from the published",
+                  file=sys.stderr)
+        cal, spread = calibrations[m]
+        run = follow(path, cal, spread, a.corrections, a.dt_ms)
+        summary = run["comparison"].summary()
+        row = {"file": path.name, "muscle": m, "nrmse_percent": run["nrmse_percent"][-1],
+               "nrmse_percent_passes": run["nrmse_percent"], "summary": summary,
+               "pool": {"units": n, "p0_range": spread.range_ratio, "p0_exponent": spread.exponent,
+                        "mvc_drive_uS": spread.mvc_drive_uS, "thresholds_rms_percent": spread.rms_error_percent,
+                        "neuromodulation": cal.definition.neuromodulation}}
+        run["result"].save(out / f"{path.stem}_pool.h5", overwrite=a.overwrite)
+        figure(out / f"{path.stem}.png", path.stem, run)
+        (out / f"{path.stem}.json").write_text(json.dumps(row, indent=1, default=float))
+        rows.append(row)
+    report = {"files": rows, "wall_s": round(time.time() - t0, 1)}
+    (out / SUMMARY_FILES[0]).write_text(json.dumps(report, indent=1, default=float))
+    (out / SUMMARY_FILES[1]).write_text("\n".join(table(rows)) + "\n")
+    print(json.dumps(report, indent=1, default=float))
+    return report
+
+
+if __name__ == "__main__":
+    main()

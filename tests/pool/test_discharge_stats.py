@@ -1,0 +1,73 @@
+"""Discharge statistics on trains whose answers are known: rates, thresholds, onion skin, paired-unit Delta F, KS."""
+
+import numpy as np
+import pytest
+
+from neuromuscle.errors import InputError
+from neuromuscle.pool import discharge_stats as ds
+
+
+def _train(rate_hz, start_ms, end_ms):
+    return np.arange(start_ms, end_ms, 1000.0 / rate_hz)
+
+
+def test_rates_median_and_peak_ignore_long_gaps():
+    a = np.concatenate([_train(10.0, 0.0, 2000.0), _train(20.0, 5000.0, 5500.0)])   # a 3-s gap between episodes
+    r = ds.unit_rates([a, _train(8.0, 0.0, 3000.0), np.array([1.0])])
+    assert r.median_hz[0] == pytest.approx(10.0) and r.peak_hz[0] == pytest.approx(20.0)
+    assert r.median_hz[1] == pytest.approx(8.0) and np.isnan(r.median_hz[2])
+    s = r.summary()
+    assert s["units"] == 2 and s["peak_max_hz"] == pytest.approx(20.0)
+
+
+def test_thresholds_are_the_force_at_first_and_last_discharge():
+    t = np.arange(0.0, 10001.0, 1.0)
+    force = np.interp(t, [0, 5000, 10000], [0, 50, 0])
+    trains = [_train(10.0, 1000.0, 9000.0), _train(10.0, 3000.0, 6000.0)]
+    assert np.allclose(ds.recruitment_thresholds(trains, t, force), [10.0, 30.0])
+    assert ds.derecruitment_thresholds(trains, t, force)[1] == pytest.approx(41.0)   # last discharge at 5.9 s
+
+
+def test_onion_skin_sign():
+    t = np.arange(0.0, 10001.0, 1.0)
+    force = np.interp(t, [0, 2000, 10000], [0, 30, 30])
+    early_fast = [_train(20.0, 100.0, 10000.0), _train(15.0, 1000.0, 10000.0), _train(10.0, 1800.0, 10000.0)]
+    on = ds.onion_skin(early_fast, t, force, (3000.0, 9000.0))
+    assert on.holds and on.rho == pytest.approx(-1.0) and on.slope_hz_per_unit < 0
+    assert not ds.onion_skin(early_fast[::-1][:1] + [_train(25.0, 1900.0, 10000.0)], t, force,
+                             (3000.0, 9000.0)).holds
+
+
+def _ramp_train(on_ms, off_ms, f0, slope_hz_per_s, peak_ms):
+    """A unit whose rate rises at slope_hz_per_s from f0 until peak_ms and falls back symmetrically."""
+    out, t = [], on_ms
+    while t < off_ms:
+        out.append(t)
+        f = f0 + slope_hz_per_s * (min(t, peak_ms) - on_ms - max(t - peak_ms, 0.0)) / 1000.0
+        t += 1000.0 / max(f, 1.0)
+    return np.array(out)
+
+
+def test_delta_f_of_a_test_unit_that_derecruits_below_its_recruitment():
+    # reference: rate 5 + 2 Hz/s from 0 to 10 s and back to 5 at 20 s (a linear indicator of the drive);
+    # test: recruited at 4 s (reference 13 Hz), derecruited at 18 s (reference 9 Hz): Delta F = 4 Hz
+    ref = _ramp_train(0.0, 20000.0, 5.0, 2.0, 10000.0)
+    test = _ramp_train(4000.0, 18000.0, 6.0, 1.0, 10000.0)
+    df = ds.delta_f([ref, test])
+    assert df.pairs == 1 and list(df.per_test_unit_hz) == [1]
+    assert df.median_hz == pytest.approx(4.0, abs=0.4)
+    # recruited less than a second after the reference: no pair
+    assert ds.delta_f([ref, _ramp_train(500.0, 18000.0, 6.0, 1.0, 10000.0)]).pairs == 0
+
+
+def test_ks_distance_weighted_and_plain():
+    a, b = np.arange(10.0), np.arange(10.0) + 100.0
+    assert ds.ks_distance(a, a) == 0.0 and ds.ks_distance(a, b) == 1.0
+    assert ds.ks_distance(np.array([0.0, 1.0]), np.array([0.0]), weights_a=np.array([1.0, 0.0])) == 0.0
+
+
+def test_plateau_window_and_bad_trains():
+    t = np.arange(0.0, 1001.0, 1.0)
+    assert ds.plateau_window_ms(t, np.interp(t, [0, 200, 800, 1000], [0, 10, 10, 0])) == (180.0, 820.0)
+    with pytest.raises(InputError, match="train 0"):
+        ds.unit_rates([np.array([2.0, 1.0])])

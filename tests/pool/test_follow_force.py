@@ -1,0 +1,70 @@
+"""Following a recorded force: the P0 spread, the MVC at the upper limit of recruitment, the drive found by
+inverting the calibration ramp (on a made-up calibration whose answers are known), and one short pool run."""
+
+import numpy as np
+import pytest
+
+from neuromuscle.errors import InputError
+from neuromuscle.pool.follow_force import HUMAN_MUSCLES, Calibration, calibrate, p0_spread
+from neuromuscle.pool.result import PoolResult
+
+TA = HUMAN_MUSCLES["TA"]
+
+
+def _made_up(definition, n=5, top=1.0):
+    """A triangle 0 -> top -> 0 over 10 s each way; unit i recruited at 0.1 (i + 1) uS, its force per newton
+    (G - onset) / 0.3, at most 1, on both branches (no hysteresis)."""
+    t = np.arange(0.0, 20001.0, 10.0)
+    g = np.interp(t, [0.0, 10000.0, 20000.0], [0.0, top, 0.0])
+    on = 0.1 * (np.arange(n) + 1)
+    basis = np.clip((g[None, :] - on[:, None]) / 0.3, 0.0, 1.0)
+    return Calibration(definition, t, g, basis, on, 10000.0)
+
+
+@pytest.fixture(scope="module")
+def cal():
+    return _made_up(TA.definition(5))
+
+
+def test_published_thresholds_and_spread():
+    rank = np.array([0.0, 1.0])
+    assert TA.thresholds(rank)[-1] == pytest.approx(90.0, abs=0.1)     # TA's upper limit of recruitment
+    assert HUMAN_MUSCLES["GM"].thresholds(rank)[-1] == pytest.approx(90.0, abs=0.5)
+    assert np.allclose(p0_spread(rank, 40.0, 3.0), [1.0, 40.0])
+
+
+def test_the_last_unit_is_recruited_at_the_limit(cal):
+    s = cal.spread_for(5.0, 1.0, TA)
+    assert s.thresholds_percent[-1] == pytest.approx(90.0)
+    assert np.all(np.diff(s.thresholds_percent) > 0) and s.thresholds_percent[0] == 0.0
+    assert 0.5 < s.mvc_drive_uS < 1.0                      # past the last onset (0.5 uS), inside the ramp
+    assert s.percent_mvc(s.mvc_force) == pytest.approx(100.0)
+    fit = cal.fit_p0_spread(TA, ratios=[2.0, 5.0, 20.0], exponents=[1.0, 2.0])
+    assert fit.rms_error_percent <= s.rms_error_percent
+    assert fit.definition(cal).p0_N == pytest.approx(tuple(fit.p0_N(cal.rank)))
+
+
+def test_a_ramp_that_never_reaches_the_mvc_is_refused():
+    short = _made_up(TA.definition(5), top=0.501)           # the last unit barely recruited, no force above it
+    with pytest.raises(InputError, match="raise top_uS"):
+        short.fit_p0_spread(TA, ratios=[2.0], exponents=[1.0])
+
+
+def test_the_drive_inverts_the_ramp_and_a_zero_error_leaves_it(cal):
+    s = cal.spread_for(5.0, 1.0, TA)
+    (gu, fu), _ = cal.branches(s.p0_N(cal.rank))
+    g_true = 0.4
+    target = 100.0 * np.interp(g_true, gu, fu) / s.mvc_force
+    t = np.arange(0.0, 2001.0, 1.0)
+    times, drive = cal.drive_for(s, t, np.full(t.size, target), descent_ms=1e9)
+    assert np.allclose(drive, g_true, atol=1e-3)
+    force_N = np.full(times.size, target * s.mvc_force / 100.0)
+    result = PoolResult(times, np.vstack([np.r_[0.0, force_N[1:]]]), [np.array([])], [{}], "synaptic")
+    _, again = cal.correct_drive(s, times, drive, result, t, np.full(t.size, target), lag_ms=0.0, smooth_ms=20.0)
+    assert np.allclose(again[5:-5], drive[5:-5], atol=1e-9)
+
+
+def test_a_small_pool_calibrates():
+    cal = calibrate(TA.definition(3), top_uS=1.0, ramp_ms=1500.0, dt_ms=0.05)
+    assert np.all(np.isfinite(cal.onset_uS)) and np.all(np.diff(cal.onset_uS) > 0)   # the size principle
+    assert cal.basis.shape[0] == 3 and cal.basis.max() > 0.1

@@ -1,0 +1,84 @@
+"""Pools under CoreNEURON: the same spikes, unit forces and pool force as under NEURON, bit for bit (a current ramp
+with either muscle model and either channel set, Poisson input, recorded discharges), also when the run is made in
+chunks to bound the every-step recordings, and on two MPI ranks; a simulator of the other engine is refused."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from neuromuscle import InputError
+from neuromuscle.pool import PoolDefinition, load_pool_result
+from neuromuscle.pool import pool as pool_module
+from neuromuscle.pool.mpi import mpi_available, mpiexec_command
+from neuromuscle.pool.pool import Pool
+from neuromuscle.sim import Simulator
+
+
+def _run(definition, engine, drive="ramp", duration_ms=300.0):
+    with Pool(definition, length=-8.0, engine=engine, motoneurons=drive != "discharges") as pool:
+        if drive == "ramp":
+            pool.drive_current_ramp([0.0, duration_ms], [0.0, 20.0])
+        elif drive == "poisson":
+            pool.drive_poisson(400.0, 0.15, seed=1)
+        else:
+            pool.drive_discharges([list(10.0 + 30.0 * np.arange(9) + i) for i in range(definition.n_units)],
+                                  duration_ms)
+        return pool.run(duration_ms)
+
+
+def _assert_same(a, b):
+    assert sum(s.size for s in a.spikes_ms) > 10 and a.pool_force_N.max() > 0.1
+    assert all(np.array_equal(x, y) for x, y in zip(a.spikes_ms, b.spikes_ms))
+    np.testing.assert_array_equal(b.unit_force_N, a.unit_force_N)
+
+
+@pytest.mark.parametrize("muscle, substeps, channels", [("modules", 1, "fused"), ("fused", 8, "fused"),
+                                                        ("fused", 1, "separate")])
+def test_coreneuron_pool_is_neurons_bit_for_bit(ct09, muscle, substeps, channels):
+    d = PoolDefinition(6, ct09, muscle_model=muscle, muscle_substeps=substeps, motoneuron_channels=channels)
+    a, b = _run(d, "neuron"), _run(d, "coreneuron")
+    _assert_same(a, b)
+    assert b.provenance["settings"]["engine"] == "coreneuron"
+
+
+@pytest.mark.parametrize("drive", ["poisson", "discharges"])
+def test_coreneuron_takes_every_drive(ct09, drive):
+    d = PoolDefinition(4, ct09, muscle_model="fused")
+    _assert_same(_run(d, "neuron", drive), _run(d, "coreneuron", drive))
+
+
+def test_a_run_in_chunks_is_the_run_in_one(ct09, monkeypatch):
+    """Chunks of ~9 ms (events in flight across their ends, samples taken between them) change nothing."""
+    d = PoolDefinition(6, ct09, muscle_model="fused")
+    whole = _run(d, "coreneuron")
+    monkeypatch.setattr(pool_module, "STEP_RECORD_BUDGET_BYTES", 6 * 40 * 8 * 9)
+    _assert_same(whole, _run(d, "coreneuron"))
+
+
+def test_a_simulator_of_the_other_engine_is_refused(ct09):
+    with Pool(PoolDefinition(2, ct09), engine="coreneuron") as pool:
+        pool.drive_current_ramp([0.0, 50.0], [0.0, 20.0])
+        with pytest.raises(InputError, match="built for engine 'coreneuron'"):
+            pool.run(50.0, Simulator())
+    with pytest.raises(InputError, match="engine must be one of"):
+        Pool(PoolDefinition(2, ct09), engine="gpu")
+
+
+@pytest.mark.skipif(not mpi_available(), reason="the mpi extra is not installed (pip install -e '.[test,mpi]')")
+def test_coreneuron_on_two_ranks_is_neuron_on_one(tmp_path):
+    args = ["-m", "neuromuscle.pool.run_mpi", "--units", "6", "--duration-ms", "300", "--drive", "ramp",
+            "--muscle", "fused", "--json"]
+    results = {}
+    for name, cmd in (("neuron", [sys.executable, *args, "--out", str(tmp_path / "n.h5")]),
+                      ("coreneuron", mpiexec_command(2, [*args, "--engine", "coreneuron",
+                                                         "--out", str(tmp_path / "c.h5")]))):
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+        assert proc.returncode == 0, proc.stderr[-3000:]
+        report = json.loads(proc.stdout[proc.stdout.index("{"):])
+        assert report["engine"] == name
+        results[name] = load_pool_result(tmp_path / ("n.h5" if name == "neuron" else "c.h5"))
+    assert results["coreneuron"].ranks == 2
+    _assert_same(results["neuron"], results["coreneuron"])
