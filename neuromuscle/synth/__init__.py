@@ -10,7 +10,7 @@ out-of-catalogue artefact) played into the baseline's modulation ports (``play``
     write_dataset("prep.h5", None, 0.0, seed=3)                     # a null preparation
     truth(read_measured("prep.h5"))["parameters"]                   # for tests only
 
-docs/synth.md states every hidden form, its strength range and how it differs from the extension that should
+docs/guide/synth.md states every hidden form, its strength range and how it differs from the extension that should
 find it.
 """
 

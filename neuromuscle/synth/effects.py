@@ -1,10 +1,12 @@
-"""The hidden effects of synthetic data: one per canonical cause (shared/spec/diagnosis.md), and one from outside
-the catalogue.  docs/synth.md states each form and how it differs from the catalogue extension meant to find it.
+"""The hidden effects of synthetic data: one per canonical cause (docs/reference/diagnosis.md), and one from
+outside the catalogue.  docs/guide/synth.md states each form and how it differs from the catalogue extension meant to
+find it.
 
 Each effect maps a trial (its spikes, length and velocity on the simulation clock) to time series for the
 baseline's modulation ports (``release_gain``, ``uptake_gain`` (1), ``force_offset`` (N)), played into NEURON by
 :mod:`.play`, or for ``force_scale`` (1), a scale of the output force (KimForce's output does not feed back into
-the contractile element, so this equals playing force_offset = (scale - 1) F into it).  The forms are deliberately NOT the catalogue's equations (eq 18, eqs 19-20, the extensions in
+the contractile element, so this equals playing force_offset = (scale - 1) F into it).  The forms are deliberately
+NOT the catalogue's equations (eq 18, eqs 19-20, the extensions in
 ``neuromuscle/model/extensions``): a diagnosis that names the cause has discovered it, not re-fitted its own
 generator.  The strength (0-1) maps linearly onto the amplitude ``a`` between ``low`` and ``high``, a range in which
 the effect is physiologically plausible and, at 1-2 % noise, visible in the trials that should show it.
@@ -18,7 +20,7 @@ Units: time ms, length mm, velocity mm/s (positive = lengthening), force N.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Mapping
+from typing import Callable, Mapping, Sequence
 
 import numpy as np
 from scipy.signal import fftconvolve
@@ -332,3 +334,25 @@ def transducer_drift(time_s: np.ndarray, amplitude_N: float, rng: np.random.Gene
     phase = float(rng.uniform(0.0, 2.0 * np.pi))
     drift = amplitude_N * np.sin(2.0 * np.pi * np.asarray(time_s) / period_s + phase)
     return drift, {"period_s": period_s, "phase_rad": phase, "amplitude_N": amplitude_N}
+
+
+#: How two hidden effects' series on one port combine: gains and scales multiply, offsets (N) add.
+_COMBINE = {"release_gain": np.multiply, "uptake_gain": np.multiply, "tauA_gain": np.multiply,
+            "force_scale": np.multiply, "force_offset": np.add}
+
+
+def combined_modulation(effects: Sequence[tuple[str, float]], inp: TrialInput) -> dict[str, tuple[np.ndarray,
+                                                                                                  np.ndarray]]:
+    """The port series of several hidden effects at once, each (name, amplitude): series on the same port are
+    combined on the union of their time grids (gains and scales multiply, offsets add; each series is linear
+    between its samples, as it is played)."""
+    out: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    for name, amplitude in effects:
+        for port, (t, v) in modulation(name, inp, amplitude).items():
+            if port not in out:
+                out[port] = (np.asarray(t, dtype=float), np.asarray(v, dtype=float))
+                continue
+            t0, v0 = out[port]
+            grid = np.union1d(t0, t)
+            out[port] = (grid, _COMBINE[port](np.interp(grid, t0, v0), np.interp(grid, t, v)))
+    return out

@@ -1,10 +1,10 @@
-"""Playing a hidden effect into NEURON: the SynthPlay component (mod/synth_play.mod) and the unit that reads it.
+"""Playing a hidden effect into NEURON: the SynthPlay component (mod/SynthPlay.mod) and the unit that reads it.
 
 A hidden effect is a set of time series (simulation clock, ms) for some of the baseline's modulation ports
 (KimCa.release_gain, KimCa.uptake_gain, KimAct.tauA_gain, KimForce.force_offset).  ``SynthPlay`` holds them and
 plays them into its RANGE variables by ``Vector.play`` (continuous: linear interpolation between samples, a step
-is two samples close together); :func:`played_models` gives the Kim Modules 1-3 (eq 18 and eqs 19-20 off) whose
-modulation ports read those variables.  Ports with no series stay at their mechanism's neutral value, and an empty
+is two samples close together); :func:`played_models` gives the Kim Modules 1-3 whose modulation ports read those
+variables.  Ports with no series stay at their mechanism's neutral value, and an empty
 series mapping gives exactly the baseline.  The play costs O(1) per step, in fixed step and CVODE alike.
 """
 
@@ -29,7 +29,7 @@ Series = Mapping[str, tuple[np.ndarray, np.ndarray]]
 
 
 class SynthPlay(Component):
-    """Played modulation (mod/synth_play.mod): ``series`` maps a port name to (t_ms, values) played into the
+    """Played modulation (mod/SynthPlay.mod): ``series`` maps a port name to (t_ms, values) played into the
     RANGE variable of the same name (units: 1 for the gains, N for force_offset)."""
 
     suffix = "SynthPlay"
@@ -79,10 +79,13 @@ def _reading(component: Component, ports: list[str]) -> Component:
     return out
 
 
-def played_models(series: Series) -> tuple[dict[str, Component], dict[str, Component]]:
-    """(excitation, contraction) for ``MuscleUnit``/``simulate``: Kim Modules 1-2 with eq 18 and eqs 19-20 off,
-    Module 3, their modulation ports in ``series`` reading a SynthPlay that plays it (none: the baseline)."""
-    excitation = kim_excitation(length_compensation=False, movement_compensation=False)
+def played_models(series: Series, length_compensation: bool = False,
+                  movement_compensation: bool = False) -> tuple[dict[str, Component], dict[str, Component]]:
+    """(excitation, contraction) for ``MuscleUnit``/``simulate``: Kim Modules 1-2 (eq 18 and eqs 19-20 as given,
+    off by default), Module 3, their modulation ports in ``series`` reading a SynthPlay that plays it (none: the
+    model without modulation)."""
+    excitation = kim_excitation(length_compensation=length_compensation,
+                                movement_compensation=movement_compensation)
     contraction: dict[str, Component] = {"force": KimForce()}
     if not series:
         return excitation, contraction

@@ -1,47 +1,39 @@
-"""The protocol sets of one synthetic preparation (standard, 28 trials; extended, 36, the default of ``synth`` since
-stop 36): what each trial is, on the trial's clock (s).
+"""The protocol sets of a synthetic preparation: what each trial is, on the trial's clock (s).
 
-Lengths are set relative to the preparation's optimum (as an experimenter sets them after a length-tension scan):
-"optimal" at the optimum, "short" SHORT_MM below it, "long" LONG_MM above it.  Every stimulated trial starts with
-PRE_S of rest before its first stimulus.  The standard set: 28 trials, about 92 s of simulated time in all
-(``total_duration_s``):
+Lengths are set relative to the preparation's optimum, as an experimenter sets them after a length-tension scan.
+Every stimulated trial starts with PRE_S of rest before its first stimulus.  Four sets (``PROTOCOL_SETS``):
 
-* twitches at the three lengths; 10 and 40 Hz trains (1 s) at the three lengths; 3 Hz (4 s), 20 Hz (1 s) and
-  100 Hz (0.5 s) trains at the optimum;
-* doublets: a 10 Hz train (1 s) at the optimum whose first stimulus is followed by one more 5, 10 or 15 ms later;
-* long 30 Hz and 40 Hz trains (12 s) at the optimum (fatigue; two, so that a split can calibrate on one and
-  judge on the other);
-* potentiation: three twitches 1 s apart, a 100 Hz conditioning train (1 s, or 0.5 s in a second trial, so that a
-  split can calibrate on one dose and judge on the other), four twitches 2 s apart;
-* isokinetic ramps between short and optimal, lengthening and shortening, during a 10 Hz (10 mm/s) or a 40 Hz
-  (20 mm/s) train;
-* stretch-hold (optimal -> long) and shortening-hold (long -> optimal) at 20 mm/s during a 40 Hz train (2.5 s);
-* random length (band 2 Hz, between short and long, fixed seeds) during 10 and 20 Hz trains (4 s);
-* a 0.5 mm step shortening in 0.5 ms during a 100 Hz train (the series-elastic stiffness), sampled at 10 kHz.
+* **standard** (28 trials, about 92 s of simulated time): twitches at three lengths (optimum, SHORT_MM below,
+  LONG_MM above); 10 and 40 Hz trains (1 s) at the three lengths; 3 Hz (4 s), 20 Hz (1 s) and 100 Hz (0.5 s)
+  trains at the optimum; doublets (a 10 Hz train whose first stimulus is followed by one more 5, 10 or 15 ms
+  later); long 30 and 40 Hz trains (12 s); potentiation (three twitches 1 s apart, a 100 Hz conditioning train of
+  1 or 0.5 s, four twitches 2 s apart); isokinetic ramps between short and optimal during 10 Hz (10 mm/s) and 40 Hz
+  (20 mm/s) trains; a stretch-hold (optimal -> long) and a shortening-hold (long -> optimal) at 20 mm/s during a
+  40 Hz train; random length (band 2 Hz) during 10 and 20 Hz trains (4 s); a 0.5 mm step shortening during a
+  100 Hz train, sampled at 10 kHz (the series-elastic stiffness).  Most protocols have two trials, so that a
+  diagnosis's split puts one on each side.
+* **extended** (36 trials, about 127 s): the standard set unchanged, then twitch series (6 twitches at 1 Hz, 10 at
+  2 Hz: a staircase is measured this way), post-tetanic probes (a 100 Hz or 50 Hz conditioning train, then twitches
+  0.15, 0.4, 1 and 2.5 s after it), cyclic length (short <-> optimal at 1 Hz during 10 Hz, or 0.5 Hz during
+  20 Hz, 4 s) and a second, longer stretch-hold and shortening-hold (4 s trains).
+* **reduced** (26 trials, about 52 s): the design of a typical in situ study, most protocols with a single trial:
+  twitches and 4-40 Hz trains at the optimum and REDUCED_MM either side, two 2 s low-rate trains, one doublet train,
+  100 Hz isokinetic ramps (lengthening and shortening), random length during 10, 20 and 30 Hz trains and during a
+  train of random intervals, one 30 Hz stretch-hold and one shortening-hold, one 4 s 40 Hz train, and twitches
+  around a tetanus.  No step, and the file carries no force-length or force-velocity points.
+* **ramps** (8 trials): the design of many eccentric-contraction studies, with no separate isometric trial: 30 Hz
+  stimulation, a hold, a ramp to one final length (stretch from two shorter lengths, shortening from two longer
+  ones, each at two speeds), and a hold to the end of stimulation.
 
-The **extended** set (``extended_protocols``, ``synth --protocols extended``: 36 trials, about 127 s) adds three
-protocols of two trials each, so that each has one trial on either side of a diagnosis's split and the standard
-trials keep their split; they target the causes whose weak cases the standard set leaves within a preparation's
-calibration misfit (docs/diagnosis.md, stop 36); and (stop 39) a second hold of each kind:
-
-* twitch series at the optimum: 6 twitches at 1 Hz and 10 at 2 Hz (a staircase, or treppe, is measured this way);
-* post-tetanic probes at the optimum: a 100 Hz (0.3 s) or 50 Hz (0.5 s) conditioning train, then twitches 0.15,
-  0.4, 1 and 2.5 s after its last stimulus (relaxation that recovers within a second after activity, against a
-  potentiation that lasts tens of seconds; the 50 Hz train loads activity with few intervals under 15 ms);
-* cyclic length: a sinusoid between short and optimal, 1 Hz during a 10 Hz train or 0.5 Hz during a 20 Hz
-  train (4 s; movement at low rates and lengthening below the optimum, every cycle);
-* long holds (``_long_holds``): the stretch-hold and shortening-hold ramps during 4 s 40 Hz trains, held about 3 s,
-  ordered after the standard holds by the split, so that one hold of each kind is judged (force enhancement and
-  depression are defined by the force in the hold).
-
-The sampling interval is SAMPLE_S (1 kHz) except for the step.  Trial attributes say what each trial is:
-``kind`` (as ``protocol``), ``rate_hz``, ``length_label`` or ``lengths``, ``doublet_isi_ms``, ``velocity_mm_s``.
+The sampling interval is ``sample_s`` (1 ms by default; the step keeps 0.1 ms).  Trial attributes say what each
+trial is: ``kind`` (as ``protocol``), ``rate_hz``, ``length_label`` or ``lengths``, ``doublet_isi_ms``,
+``velocity_mm_s``.  ``protocol_set(..., drop=...)`` leaves out whole protocols.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -54,13 +46,16 @@ PRE_S = 0.1
 POST_S = 0.4
 SHORT_MM = 6.0
 LONG_MM = 5.0
-#: Seeds of the random-length trials: part of the standard protocol, the same in every preparation.
-RANDOM_LENGTH_SEEDS = {10: 11, 20: 12}
+#: The reduced set's short and long lengths lie this far (mm) either side of the optimum.
+REDUCED_MM = 8.0
+#: Seeds of the random-length trials and of the random-interval train: the same in every preparation.
+RANDOM_LENGTH_SEEDS = {10: 11, 20: 12, 30: 13}
+RANDOM_INTERVAL_SEED = 14
 
 
 @dataclass(frozen=True)
 class PlannedTrial:
-    """One trial of the protocol set: id, protocol, duration (s), stimulus times (s), and either a constant
+    """One trial of the protocol set: id, protocol, clock (s), stimulus times (s), and either a constant
     length (mm) or a sampled one (mm, at ``time_s``); ``attrs`` are written into the trial group."""
 
     trial_id: str
@@ -81,66 +76,179 @@ def _train(rate_hz: float, duration_s: float, start_s: float = PRE_S) -> np.ndar
     return start_s + np.arange(n) / rate_hz
 
 
-def _clock(duration_s: float, sample_s: float = SAMPLE_S) -> np.ndarray:
+def _clock(duration_s: float, sample_s: float) -> np.ndarray:
     return np.arange(int(round(duration_s / sample_s)) + 1) * sample_s
 
 
-def _isometric(tid: str, protocol: str, stims: np.ndarray, x_mm: float, label: str, **attrs: Any) -> PlannedTrial:
-    end = float(stims[-1]) + POST_S
-    return PlannedTrial(tid, protocol, _clock(end), stims, length_mm=x_mm,
-                        attrs={"kind": protocol, "length_label": label, **attrs})
+@dataclass(frozen=True)
+class _Builder:
+    """Makes trials on one sampling interval (s)."""
+
+    sample_s: float = SAMPLE_S
+
+    def isometric(self, tid: str, protocol: str, stims: np.ndarray, x_mm: float, label: str,
+                  **attrs: Any) -> PlannedTrial:
+        end = float(stims[-1]) + POST_S
+        return PlannedTrial(tid, protocol, _clock(end, self.sample_s), stims, length_mm=x_mm,
+                            attrs={"kind": protocol, "length_label": label, **attrs})
+
+    def moving(self, tid: str, protocol: str, stims: np.ndarray, duration_s: float,
+               trace: Callable[[np.ndarray, float], np.ndarray], **attrs: Any) -> PlannedTrial:
+        """A trial whose length is ``trace(t_ms, duration_ms)`` (mm) on its clock."""
+        t = _clock(duration_s, self.sample_s)
+        t_ms = t * 1000.0
+        return PlannedTrial(tid, protocol, t, stims, length_trace_mm=trace(t_ms, float(t_ms[-1])),
+                            attrs={"kind": protocol, **attrs})
+
+    def ramp(self, tid: str, protocol: str, stims: np.ndarray, duration_s: float, x_from: float, x_to: float,
+             speed_mm_s: float, start_s: float, **attrs: Any) -> PlannedTrial:
+        """Hold ``x_from`` until ``start_s``, move to ``x_to`` at ``speed_mm_s``, hold (mm, s)."""
+        def trace(t_ms: np.ndarray, end_ms: float) -> np.ndarray:
+            return isokinetic_ramp(x_from, x_to, speed_mm_s, start_s * 1000.0, end_ms).at(t_ms)
+
+        sign = 1.0 if x_to > x_from else -1.0
+        return self.moving(tid, protocol, stims, duration_s, trace, velocity_mm_s=sign * abs(speed_mm_s), **attrs)
+
+    def random(self, tid: str, protocol: str, stims: np.ndarray, duration_s: float, seed: int,
+               lengths: dict[str, float], **attrs: Any) -> PlannedTrial:
+        def trace(t_ms: np.ndarray, end_ms: float) -> np.ndarray:
+            return random_length(end_ms, seed, centre_mm=lengths["opt"], low_mm=lengths["short"],
+                                 high_mm=lengths["long"], band_hz=2.0, sample_rate_hz=1000.0).at(t_ms)
+
+        return self.moving(tid, protocol, stims, duration_s, trace, length_seed=seed, **attrs)
 
 
-def _moving(tid: str, protocol: str, stims: np.ndarray, t_s: np.ndarray, x_mm: np.ndarray,
-            **attrs: Any) -> PlannedTrial:
-    return PlannedTrial(tid, protocol, t_s, stims, length_trace_mm=x_mm, attrs={"kind": protocol, **attrs})
+def _lengths(opt: float, short_mm: float, long_mm: float) -> dict[str, float]:
+    return {"short": opt - short_mm, "opt": opt, "long": opt + long_mm}
 
 
-def standard_protocols(optimum_mm: float) -> list[PlannedTrial]:
-    """The standard protocol set around the preparation's optimum ``optimum_mm`` (mm)."""
+_LABELS = {"short": "short", "opt": "optimal", "long": "long"}
+
+
+def standard_protocols(optimum_mm: float, sample_s: float = SAMPLE_S) -> list[PlannedTrial]:
+    """The standard set around the preparation's optimum ``optimum_mm`` (mm), sampled every ``sample_s`` (s)."""
+    b = _Builder(sample_s)
     opt = float(optimum_mm)
-    lengths = {"short": opt - SHORT_MM, "opt": opt, "long": opt + LONG_MM}
-    labels = {"short": "short", "opt": "optimal", "long": "long"}
+    lengths = _lengths(opt, SHORT_MM, LONG_MM)
     trials: list[PlannedTrial] = []
     for key, x in lengths.items():
-        trials.append(_isometric(f"twitch_{key}", "twitch", np.array([PRE_S]), x, labels[key], rate_hz=0.0))
+        trials.append(b.isometric(f"twitch_{key}", "twitch", np.array([PRE_S]), x, _LABELS[key], rate_hz=0.0))
     for rate, dur in ((3, 4.0), (10, 1.0), (20, 1.0), (40, 1.0), (100, 0.5)):
-        trials.append(_isometric(f"train{rate}_opt", "train", _train(rate, dur), opt, "optimal", rate_hz=rate))
+        trials.append(b.isometric(f"train{rate}_opt", "train", _train(rate, dur), opt, "optimal", rate_hz=rate))
     for key in ("short", "long"):
         for rate in (10, 40):
-            trials.append(_isometric(f"train{rate}_{key}", "train", _train(rate, 1.0), lengths[key], labels[key],
-                                     rate_hz=rate))
+            trials.append(b.isometric(f"train{rate}_{key}", "train", _train(rate, 1.0), lengths[key], _LABELS[key],
+                                      rate_hz=rate))
     for isi in (5, 10, 15):
         stims = np.sort(np.concatenate([_train(10, 1.0), [PRE_S + isi / 1000.0]]))
-        trials.append(_isometric(f"doublet{isi}_opt", "doublet", stims, opt, "optimal", rate_hz=10,
-                                 doublet_isi_ms=float(isi)))
-    for rate in (30, 40):  # two, so that the diagnosis's split can hold one out
-        trials.append(_isometric(f"long_train{rate}_opt", "long_train", _train(rate, 12.0), opt, "optimal",
-                                 rate_hz=rate))
-    for tid, train_s in (("potentiation_opt", 1.0), ("potentiation_half_opt", 0.5)):  # two doses, so that a
-        # split can calibrate on one and judge on the other (with one, post-activation potentiation was untestable)
+        trials.append(b.isometric(f"doublet{isi}_opt", "doublet", stims, opt, "optimal", rate_hz=10,
+                                  doublet_isi_ms=float(isi)))
+    for rate in (30, 40):
+        trials.append(b.isometric(f"long_train{rate}_opt", "long_train", _train(rate, 12.0), opt, "optimal",
+                                  rate_hz=rate))
+    for tid, train_s in (("potentiation_opt", 1.0), ("potentiation_half_opt", 0.5)):
         pap = np.concatenate([PRE_S + np.arange(3.0), _train(100, train_s, PRE_S + 3.0),
                               PRE_S + 4.0 + train_s + 2.0 * np.arange(4)])
-        trials.append(_isometric(tid, "potentiation", pap, opt, "optimal", rate_hz=100,
-                                 twitch_times_s=np.concatenate([pap[:3], pap[-4:]])))
-    trials += _ramps(lengths) + _holds(lengths) + _random(lengths) + [_step(opt)]
+        trials.append(b.isometric(tid, "potentiation", pap, opt, "optimal", rate_hz=100,
+                                  twitch_times_s=np.concatenate([pap[:3], pap[-4:]])))
+    for rate, speed in ((10, 10.0), (40, 20.0)):
+        ramp_s = (lengths["opt"] - lengths["short"]) / speed
+        stim_s = 0.5 + ramp_s + 0.5
+        for direction, (a, z) in (("lengthen", ("short", "opt")), ("shorten", ("opt", "short"))):
+            trials.append(b.ramp(f"ramp_{direction}{rate}", "isokinetic", _train(rate, stim_s), PRE_S + stim_s + POST_S,
+                                 lengths[a], lengths[z], speed, PRE_S + 0.4, rate_hz=rate, lengths=f"{a} -> {z}"))
+    trials += _holds(b, lengths, (("stretch_hold40", "opt", "long", 2.5, 0.5),
+                                  ("shorten_hold40", "long", "opt", 2.5, 0.5)))
+    for rate in (10, 20):
+        trials.append(b.random(f"random_length{rate}", "random_length", _train(rate, 4.0), PRE_S + 4.0 + POST_S,
+                               RANDOM_LENGTH_SEEDS[rate], lengths, rate_hz=rate))
+    trials.append(_step(opt))
     return trials
 
 
-def extended_protocols(optimum_mm: float) -> list[PlannedTrial]:
+def extended_protocols(optimum_mm: float, sample_s: float = SAMPLE_S) -> list[PlannedTrial]:
     """The standard set around ``optimum_mm`` (mm), unchanged and first, then twitch series, post-tetanic probes,
-    cyclic length and (since stop 39) the long stretch- and shortening-holds (module docstring)."""
+    cyclic length and the long stretch- and shortening-holds (module docstring)."""
+    b = _Builder(sample_s)
     opt = float(optimum_mm)
-    lengths = {"short": opt - SHORT_MM, "opt": opt, "long": opt + LONG_MM}
-    return (standard_protocols(opt) + _twitch_series(opt) + _post_tetanic(opt) + _cyclic(opt - SHORT_MM, opt)
-            + _long_holds(lengths))
+    lengths = _lengths(opt, SHORT_MM, LONG_MM)
+    out = standard_protocols(opt, sample_s)
+    for rate, n in ((1.0, 6), (2.0, 10)):
+        out.append(b.isometric(f"twitch_series{rate:g}_opt", "twitch_series", _train(rate, n / rate), opt,
+                               "optimal", rate_hz=rate))
+    for rate, train_s in ((100, 0.3), (50, 0.5)):
+        out.append(_post_tetanic(b, f"post_tetanic{rate}_opt", rate, train_s, opt))
+    short = lengths["short"]
+    for rate, cycle_hz in ((10, 1.0), (20, 0.5)):
+        def cyclic(t_ms: np.ndarray, _end_ms: float, f: float = cycle_hz) -> np.ndarray:
+            return short + (opt - short) * 0.5 * (1.0 - np.cos(2.0 * np.pi * f * t_ms / 1000.0))
+        out.append(b.moving(f"cyclic{rate}", "cyclic_length", _train(rate, 4.0), PRE_S + 4.0 + POST_S, cyclic,
+                            rate_hz=rate, cycle_hz=cycle_hz, lengths="short <-> optimal"))
+    # held longer: residual force enhancement and depression last as long as the activation; the transient after
+    # the ramp fades within ~0.1 s
+    out += _holds(b, lengths, (("stretch_hold40_4s", "opt", "long", 4.0, 0.5),
+                               ("shorten_hold40_4s", "long", "opt", 4.0, 1.0)))
+    return out
+
+
+def reduced_protocols(optimum_mm: float, sample_s: float = SAMPLE_S) -> list[PlannedTrial]:
+    """The reduced set around ``optimum_mm`` (mm): the design of a typical in situ study (module docstring)."""
+    b = _Builder(sample_s)
+    opt = float(optimum_mm)
+    lengths = _lengths(opt, REDUCED_MM, REDUCED_MM)
+    out: list[PlannedTrial] = []
+    for key, x in lengths.items():
+        out.append(b.isometric(f"twitch_{key}", "twitch", np.array([PRE_S]), x, _LABELS[key], rate_hz=0.0))
+    out.append(b.isometric("train4_opt", "train", _train(4, 1.0), opt, "optimal", rate_hz=4))
+    for key, x in lengths.items():
+        for rate in (10, 20, 40):
+            out.append(b.isometric(f"train{rate}_{key}", "train", _train(rate, 1.0), x, _LABELS[key], rate_hz=rate))
+    for rate in (3, 6):
+        out.append(b.isometric(f"low_rate{rate}_opt", "low_rate_train", _train(rate, 2.0), opt, "optimal",
+                               rate_hz=rate))
+    stims = np.sort(np.concatenate([_train(20, 1.0), [PRE_S + 0.008]]))
+    out.append(b.isometric("doublet_opt", "doublet", stims, opt, "optimal", rate_hz=20, doublet_isi_ms=8.0))
+    for direction, (a, z) in (("lengthen", ("short", "long")), ("shorten", ("long", "short"))):
+        speed = 40.0
+        stim_s = 0.3 + (lengths["long"] - lengths["short"]) / speed + 0.3
+        out.append(b.ramp(f"ramp100_{direction}", "isokinetic", _train(100, stim_s), PRE_S + stim_s + POST_S,
+                          lengths[a], lengths[z], speed, PRE_S + 0.3, rate_hz=100, lengths=f"{a} -> {z}"))
+    for rate in (10, 20, 30):
+        out.append(b.random(f"random_length{rate}", "random_length", _train(rate, 3.0), PRE_S + 3.0 + POST_S,
+                            RANDOM_LENGTH_SEEDS[rate], lengths, rate_hz=rate))
+    out.append(b.random("random_length_random_rate", "random_length", _random_intervals(25.0, 3.0),
+                        PRE_S + 3.0 + POST_S, RANDOM_LENGTH_SEEDS[20] + 10, lengths, rate_hz=25))
+    out += _holds(b, lengths, (("stretch_hold30", "opt", "long", 3.0, 0.5),
+                               ("shorten_hold30", "long", "opt", 3.0, 0.5)), rate_hz=30)
+    out.append(b.isometric("long_train40_opt", "long_train", _train(40, 4.0), opt, "optimal", rate_hz=40))
+    out.append(_post_tetanic(b, "post_tetanic_opt", 100, 0.5, opt, before=3))
+    return out
+
+
+def ramps_protocols(optimum_mm: float, sample_s: float = SAMPLE_S) -> list[PlannedTrial]:
+    """The ramps-only set around ``optimum_mm`` (mm): 30 Hz trains with one ramp each to the final length
+    optimum + 4 mm, from 2 and 6 mm below it (stretch) or above it (shortening), at 4 and 12 mm/s."""
+    b = _Builder(sample_s)
+    final = float(optimum_mm) + 4.0
+    out: list[PlannedTrial] = []
+    for direction, sign in (("stretch", -1.0), ("shorten", 1.0)):
+        for dist in (2.0, 6.0):
+            for speed in (4.0, 12.0):
+                start = final + sign * dist
+                stim_s = 1.0 + dist / speed + 1.5
+                out.append(b.ramp(f"{direction}{dist:g}mm_{speed:g}mm_s", f"{direction}_ramp", _train(30, stim_s),
+                                  PRE_S + stim_s + POST_S, start, final, speed, PRE_S + 1.0, rate_hz=30,
+                                  lengths=f"{start:g} -> {final:g} mm"))
+    return out
 
 
 #: The protocol sets ``synth`` can write, by name.
-PROTOCOL_SETS = {"standard": standard_protocols, "extended": extended_protocols}
+PROTOCOL_SETS: dict[str, Callable[..., list[PlannedTrial]]] = {
+    "standard": standard_protocols, "extended": extended_protocols, "reduced": reduced_protocols,
+    "ramps": ramps_protocols}
 
 
-def protocol_builder(name: str) -> Callable[[float], list[PlannedTrial]]:
+def protocol_builder(name: str) -> Callable[..., list[PlannedTrial]]:
     """The function that builds protocol set ``name`` (``PROTOCOL_SETS``) around an optimum (mm); InputError
     naming the known sets otherwise (so a caller can refuse a bad name before any work)."""
     if name not in PROTOCOL_SETS:
@@ -148,95 +256,61 @@ def protocol_builder(name: str) -> Callable[[float], list[PlannedTrial]]:
     return PROTOCOL_SETS[name]
 
 
-def protocol_set(name: str, optimum_mm: float) -> list[PlannedTrial]:
-    """The protocol set called ``name`` (``PROTOCOL_SETS``) around ``optimum_mm`` (mm); InputError otherwise."""
-    return protocol_builder(name)(optimum_mm)
+def protocol_set(name: str, optimum_mm: float, sample_rate_hz: float = 1.0 / SAMPLE_S,
+                 drop: Sequence[str] = ()) -> list[PlannedTrial]:
+    """Protocol set ``name`` around ``optimum_mm`` (mm), sampled at ``sample_rate_hz`` (Hz, 100-20000), without
+    the protocols named in ``drop``; InputError for an unknown set or protocol, a bad rate, or nothing left."""
+    build = protocol_builder(name)
+    if isinstance(sample_rate_hz, bool) or not isinstance(sample_rate_hz, (int, float)) or \
+            not 100.0 <= float(sample_rate_hz) <= 20000.0:
+        raise InputError(f"sample_rate_hz must be a number in [100, 20000] Hz, got {sample_rate_hz!r}")
+    plan = build(optimum_mm, 1.0 / float(sample_rate_hz))
+    known = sorted({p.protocol for p in plan})
+    unknown = sorted(set(drop) - set(known))
+    if unknown:
+        raise InputError(f"cannot drop protocol(s) {unknown}: the {name} set has {', '.join(known)}")
+    kept = [p for p in plan if p.protocol not in set(drop)]
+    if not kept:
+        raise InputError(f"dropping {', '.join(drop)} leaves no trial of the {name} set")
+    return kept
 
 
-def _twitch_series(opt: float) -> list[PlannedTrial]:
+def _holds(b: _Builder, lengths: dict[str, float], specs: Sequence[tuple[str, str, str, float, float]],
+           rate_hz: float = 40.0) -> list[PlannedTrial]:
+    """For each (id, from, to, train s, ramp after s): a ``rate_hz`` train during which the length moves between
+    the named lengths at 20 mm/s, starting the given time after the first stimulus, and is then held."""
     out = []
-    for rate, n in ((1.0, 6), (2.0, 10)):
-        out.append(_isometric(f"twitch_series{rate:g}_opt", "twitch_series", _train(rate, n / rate), opt, "optimal",
-                              rate_hz=rate))
+    for tid, a, z, train_s, after_s in specs:
+        protocol = "stretch_hold" if lengths[z] > lengths[a] else "shorten_hold"
+        out.append(b.ramp(tid, protocol, _train(rate_hz, train_s), PRE_S + train_s + POST_S, lengths[a], lengths[z],
+                          20.0, PRE_S + after_s, rate_hz=rate_hz, lengths=f"{a} -> {z}"))
     return out
 
 
-def _post_tetanic(opt: float) -> list[PlannedTrial]:
-    out = []
-    for rate, train_s in ((100, 0.3), (50, 0.5)):
-        conditioning = _train(rate, train_s)
-        probes = float(conditioning[-1]) + np.array([0.15, 0.4, 1.0, 2.5])
-        out.append(_isometric(f"post_tetanic{rate}_opt", "post_tetanic", np.concatenate([conditioning, probes]), opt,
-                              "optimal", rate_hz=rate, twitch_times_s=probes))
-    return out
+def _post_tetanic(b: _Builder, tid: str, rate_hz: float, train_s: float, opt: float,
+                  before: int = 0) -> PlannedTrial:
+    """``before`` twitches 1 s apart, a conditioning train, then twitch probes 0.15, 0.4, 1 and 2.5 s after it."""
+    lead = PRE_S + np.arange(float(before))
+    conditioning = _train(rate_hz, train_s, PRE_S + before)
+    probes = float(conditioning[-1]) + np.array([0.15, 0.4, 1.0, 2.5])
+    return b.isometric(tid, "post_tetanic", np.concatenate([lead, conditioning, probes]), opt, "optimal",
+                       rate_hz=rate_hz, twitch_times_s=np.concatenate([lead, probes]))
 
 
-def _cyclic(short: float, opt: float) -> list[PlannedTrial]:
-    out = []
-    t = _clock(PRE_S + 4.0 + POST_S)
-    for rate, cycle_hz in ((10, 1.0), (20, 0.5)):
-        x = short + (opt - short) * 0.5 * (1.0 - np.cos(2.0 * np.pi * cycle_hz * t))
-        out.append(_moving(f"cyclic{rate}", "cyclic_length", _train(rate, 4.0), t, x, rate_hz=rate,
-                           cycle_hz=cycle_hz, lengths="short <-> optimal"))
-    return out
-
-
-def _ramps(lengths: dict[str, float]) -> list[PlannedTrial]:
-    out = []
-    for rate, speed in ((10, 10.0), (40, 20.0)):
-        ramp_s = (lengths["opt"] - lengths["short"]) / speed
-        stim_s = 0.5 + ramp_s + 0.5
-        t = _clock(PRE_S + stim_s + POST_S)
-        for direction, (a, b) in (("lengthen", ("short", "opt")), ("shorten", ("opt", "short"))):
-            trace = isokinetic_ramp(lengths[a], lengths[b], speed, (PRE_S + 0.4) * 1000.0, t[-1] * 1000.0)
-            out.append(_moving(f"ramp_{direction}{rate}", "isokinetic", _train(rate, stim_s), t,
-                               trace.at(t * 1000.0), rate_hz=rate, velocity_mm_s=speed if direction == "lengthen"
-                               else -speed, lengths=f"{a} -> {b}"))
-    return out
-
-
-def _hold(tid: str, protocol: str, lengths: dict[str, float], a: str, b: str, train_s: float,
-          ramp_after_s: float) -> PlannedTrial:
-    """A 40 Hz train of ``train_s`` (s) during which the length moves from ``a`` to ``b`` at 20 mm/s, starting
-    ``ramp_after_s`` (s) after the first stimulus, and is then held."""
-    speed = 20.0
-    t = _clock(PRE_S + train_s + POST_S)
-    trace = isokinetic_ramp(lengths[a], lengths[b], speed, (PRE_S + ramp_after_s) * 1000.0, t[-1] * 1000.0)
-    return _moving(tid, protocol, _train(40, train_s), t, trace.at(t * 1000.0), rate_hz=40,
-                   velocity_mm_s=speed if b == "long" else -speed, lengths=f"{a} -> {b}")
-
-
-def _holds(lengths: dict[str, float]) -> list[PlannedTrial]:
-    return [_hold("stretch_hold40", "stretch_hold", lengths, "opt", "long", 2.5, 0.5),
-            _hold("shorten_hold40", "shorten_hold", lengths, "long", "opt", 2.5, 0.5)]
-
-
-def _long_holds(lengths: dict[str, float]) -> list[PlannedTrial]:
-    """The extended set's second stretch-hold and shortening-hold: the same ramps, held longer (4 s trains), so
-    that one of each is held out by the diagnosis's split (ordered after the standard ones by their mean length:
-    the stretch comes 0.5 s into the train, the shortening after 1 s at the long length).  Residual force
-    enhancement and depression last as long as the activation (seconds); a force-velocity transient after the
-    ramp fades within ~0.1 s."""
-    return [_hold("stretch_hold40_4s", "stretch_hold", lengths, "opt", "long", 4.0, 0.5),
-            _hold("shorten_hold40_4s", "shorten_hold", lengths, "long", "opt", 4.0, 1.0)]
-
-
-def _random(lengths: dict[str, float]) -> list[PlannedTrial]:
-    out = []
-    t = _clock(PRE_S + 4.0 + POST_S)
-    for rate, seed in RANDOM_LENGTH_SEEDS.items():
-        trace = random_length(t[-1] * 1000.0, seed, centre_mm=lengths["opt"], low_mm=lengths["short"],
-                              high_mm=lengths["long"], band_hz=2.0, sample_rate_hz=1000.0)
-        out.append(_moving(f"random_length{rate}", "random_length", _train(rate, 4.0), t, trace.at(t * 1000.0),
-                           rate_hz=rate, length_seed=seed))
-    return out
+def _random_intervals(mean_rate_hz: float, duration_s: float) -> np.ndarray:
+    """Stimuli at intervals uniform between 10 ms and twice the mean interval, for ``duration_s`` (s)."""
+    rng = np.random.default_rng(RANDOM_INTERVAL_SEED)
+    mean = 1.0 / mean_rate_hz
+    isi = rng.uniform(0.010, 2.0 * mean - 0.010, size=int(3 * duration_s * mean_rate_hz))
+    t = PRE_S + np.concatenate([[0.0], np.cumsum(isi)])
+    return t[t < PRE_S + duration_s]
 
 
 def _step(opt: float) -> PlannedTrial:
-    t = _clock(0.2, STEP_SAMPLE_S)
+    t = np.arange(int(round(0.2 / STEP_SAMPLE_S)) + 1) * STEP_SAMPLE_S
     trace = step_shortening(opt, 0.5, 150.0, t[-1] * 1000.0, ramp_ms=0.5, sample_ms=STEP_SAMPLE_S * 1000.0)
-    return _moving("step100", "step", np.arange(0.0, 0.2, 0.01), t, trace.at(t * 1000.0), rate_hz=100,
-                   step_mm=0.5)
+    return PlannedTrial("step100", "step", t, np.arange(0.0, 0.2, 0.01), length_trace_mm=trace.at(t * 1000.0),
+                        attrs={"kind": "step", "rate_hz": 100, "step_mm": 0.5})
 
 
 def total_duration_s(trials: list[PlannedTrial]) -> float:

@@ -131,5 +131,5 @@ def test_cli_writes_a_full_file_of_the_default_extended_set_that_data_check_acce
     assert "wrote" in capsys.readouterr().out
     assert main(["data", "check", str(out)]) == 0
     data = read_measured(out)
-    assert len(data.trials) == len(extended_protocols(-8.0))  # the default since stop 36
+    assert len(data.trials) == len(extended_protocols(-8.0))  # world B: the extended set
     assert truth(data)["cause"] == "none"

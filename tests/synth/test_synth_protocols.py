@@ -7,7 +7,8 @@ import pytest
 
 from neuromuscle import InputError
 from neuromuscle.cli import main
-from neuromuscle.diagnose.candidates import CAUSES as CATALOGUE, trial_features
+from neuromuscle.diagnose.causes import causes, tells as cause_tells
+from neuromuscle.diagnose.phases import describe
 from neuromuscle.diagnose.split import automatic_split
 from neuromuscle.measured import MeasuredData, read_measured
 from neuromuscle.synth import extended_protocols, make_dataset, protocol_set, standard_protocols, truth
@@ -20,8 +21,9 @@ OPT = -8.0
 NEW = {"twitch_series": ("twitch_series1_opt", "twitch_series2_opt"),
        "post_tetanic": ("post_tetanic100_opt", "post_tetanic50_opt"),
        "cyclic_length": ("cyclic10", "cyclic20")}
-#: Stop 39: a second hold of each kind, held longer (4 s trains), judged where the standard one calibrates.
-HOLDS = {"stretch_hold": ("stretch_hold40", "stretch_hold40_4s"), "shorten_hold": ("shorten_hold40", "shorten_hold40_4s")}
+#: A second hold of each kind, held longer (4 s trains), judged where the standard one calibrates.
+HOLDS = {"stretch_hold": ("stretch_hold40", "stretch_hold40_4s"),
+         "shorten_hold": ("shorten_hold40", "shorten_hold40_4s")}
 
 
 def _data(plan):
@@ -38,7 +40,7 @@ def test_extended_set_is_the_standard_set_unchanged_then_three_protocols_of_two_
         {**{k: sorted(v) for k, v in NEW.items()}, **{k: [v[1]] for k, v in HOLDS.items()}}
     assert 125.0 < total_duration_s(ext) < 128.0  # 126.6 s against the standard's 92 s
     assert [p.trial_id for p in protocol_set("extended", OPT)] == [p.trial_id for p in ext]
-    with pytest.raises(InputError, match="unknown protocol set 'long'; known: standard, extended"):
+    with pytest.raises(InputError, match="unknown protocol set 'long'; known: standard, extended, reduced, ramps"):
         protocol_set("long", OPT)
 
 
@@ -54,11 +56,11 @@ def test_each_added_protocol_has_a_trial_on_each_side_and_the_standard_split_is_
 
 
 def test_added_trials_are_telling_for_the_causes_they_target():
-    plan = {p.trial_id: _empty_trial(p) for p in extended_protocols(OPT)[len(standard_protocols(OPT)):]}
-    telling = {c.name: c.telling for c in CATALOGUE}
+    plan = {p.trial_id: describe(_empty_trial(p)) for p in extended_protocols(OPT)[len(standard_protocols(OPT)):]}
+    catalogue = causes()
 
     def tells(cause, tid):
-        return telling[cause](trial_features(plan[tid], OPT))
+        return cause_tells(catalogue[cause].telling, plan[tid], OPT)
 
     assert all(tells("staircase", t) for t in NEW["twitch_series"])
     assert all(tells("post_activation_potentiation", t) for t in NEW["post_tetanic"])
