@@ -1,67 +1,51 @@
-"""``neuromuscle bench diagnose``: wall time of one full diagnosis of a synthetic null file (synth's standard
-protocol set, 28 trials, or with ``--protocols extended`` its extended one, 34) with 2 workers, and of its baseline
-calibration alone.
-
-The file comes from ``neuromuscle.synth.make_dataset`` when that module exists; until then from the diagnosis
-tests' generator (``tests/diagnose/diagnose_datasets.py`` of a source checkout; a null preparation, seed 0), and
-the result says which.
-"""
+"""``neuromuscle bench diagnose``: wall time of one full diagnosis of a synthetic null file of a world (by default
+world B: the extended protocol set, 36 trials) with 2 workers, and of its baseline calibration alone, with the
+machine's load average before and after."""
 
 from __future__ import annotations
 
-import importlib.util
+import os
 import tempfile
 import time
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+#: The full diagnosis's target on 2 workers (s).
+TARGET_S = 180.0
 
 
-def standard_data(protocols: str = "standard") -> tuple[Any, str]:
-    """The synthetic null preparation of seed 0 on synth's protocol set ``protocols`` and where it came from."""
-    try:
-        from ..synth import make_dataset  # type: ignore[attr-defined]
-        return (make_dataset("none", 0.0, 0, protocols=protocols),
-                f"neuromuscle.synth.make_dataset('none', 0, seed 0, protocols={protocols!r})")
-    except ImportError:
-        path = Path(__file__).resolve().parents[2] / "tests" / "diagnose" / "diagnose_datasets.py"
-        if not path.is_file():
-            raise InputError(f"bench diagnose needs neuromuscle.synth or a source checkout with {path}") from None
-        spec = importlib.util.spec_from_file_location("diagnose_datasets", path)
-        mod = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(mod)  # type: ignore[union-attr]
-        return mod.make_data(0, standard=True), f"{path.name} make_data(0, standard=True) (synth not yet merged)"
-
-
-def bench_diagnose(workers: int = 2, protocols: str = "standard") -> dict[str, Any]:
+def bench_diagnose(workers: int = 2, world: str = "B") -> dict[str, Any]:
     """Wall times (s) of the baseline calibration alone and of the full diagnosis (report written to a temporary
-    folder), with the file's trial count, the verdict and the simulation settings."""
+    folder) of the null preparation of seed 0 in ``world``, with the file's trial count, what was named, the
+    simulation settings and the load average (1 min) before and after."""
     from ..diagnose import run_diagnosis
-    from ..diagnose.baseline import DT_MS, SETTLE_MS, calibrate_baseline
+    from ..diagnose.baseline import calibrate_baseline
     from ..diagnose.diagnosis import prepare
-    from ..diagnose.extension_fit import JACOBIAN_DT_MS
+    from ..diagnose.models import DT_MS
+    from ..diagnose.phases import describe_all
     from ..diagnose.screening import COLUMN_DT_MS
-    from ..fit.evaluate import BATCH_UNITS
+    from ..fit.evaluate import BATCH_UNITS, TrialPool
     from ..measured import write_measured
     from ..parameters import load_parameters
+    from ..synth import make_dataset, without_truth
 
-    data, source = standard_data(protocols)
+    data = without_truth(make_dataset(None, 0.0, 0, world=world, workers=workers))
+    load_before = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as tmp:
-        path = write_measured(Path(tmp) / "standard.h5", data)
+        path = write_measured(Path(tmp) / "null.h5", data)
         split = prepare(data)
         t0 = time.perf_counter()
-        calibrate_baseline(data, split.calibration, load_parameters("CT09"), workers=workers)
+        with TrialPool(list(data.trials.values()), workers) as pool:
+            calibrate_baseline(data, describe_all(data.trials), split.calibration, load_parameters("CT09"), pool=pool)
         t_base = time.perf_counter() - t0
         t0 = time.perf_counter()
         doc = run_diagnosis(path, Path(tmp) / "report", workers=workers)
         t_full = time.perf_counter() - t0
-    return {"data": source, "n_trials": len(data.trials), "workers": workers,
-            "simulation": f"fixed step dt {DT_MS} ms (0.27 % twitch-peak error vs SciPy, below 1-2 % noise), "
-                          f"{SETTLE_MS:g} ms settling (the model starts at rest); the "
-                          f"screening's finite differences at {COLUMN_DT_MS} ms and the fits' Jacobians at "
-                          f"{JACOBIAN_DT_MS} ms (the step's error cancels in the differences); the runs of one "
-                          f"trial under several parameter sets batched as units of one NEURON run (up to "
-                          f"{BATCH_UNITS}; each unit's force bit for bit its own run's)",
+    return {"data": f"neuromuscle.synth.make_dataset(None, seed 0, world {world!r})", "n_trials": len(data.trials),
+            "workers": workers,
+            "simulation": f"fixed step dt {DT_MS} ms, the fits' and the screening's finite differences at "
+                          f"{COLUMN_DT_MS} ms; the runs of one trial under several parameter sets batched as units "
+                          f"of one NEURON run (up to {BATCH_UNITS})",
             "baseline_calibration_s": round(t_base, 1), "full_diagnosis_s": round(t_full, 1),
-            "verdict": doc["verdict"], "target_s": 180.0, "within_target": t_full < 180.0}
+            "named": doc["named"], "target_s": TARGET_S, "within_target": t_full < TARGET_S,
+            "load_average_1min": {"before": round(load_before, 2), "after": round(os.getloadavg()[0], 2)}}

@@ -1,12 +1,26 @@
-"""``neuromuscle bench diagnose --suite N``: hit and false-alarm rates of the diagnosis on synthetic preparations.
+"""``neuromuscle bench diagnose --suite N``: how often the diagnosis names the hidden causes of synthetic
+preparations, per cause and per world, and how often it names something that is not there.
 
-For every canonical cause (``synth.CAUSES``), the out-of-catalogue effect (``synth.OUTSIDE``, expected verdict
-"unexplained") and no effect at all ("none"), N preparations are made by ``synth.make_dataset`` (on its extended
-protocol set since stop 36; ``protocols="standard"`` for the 28 trials before) with a random realistic strength
-(uniform 0.25-1 of the effect's range), noise (uniform 1-2 % of P0) and seed, and diagnosed blind (the truth group
-removed).  A hit is the expected verdict with a positive held-out gain (for a cause); a false alarm is a null
-preparation given anything but "none"; a wrong name is an effect named as another cause.  The draws come from one
-seeded generator, so a suite is reproducible.  Units: %, s.
+For every world asked (``neuromuscle.synth.worlds``), every canonical cause, the out-of-catalogue effect
+(expected: "unexplained") and no effect ("none"), N preparations are made by ``synth.make_dataset`` with a random
+realistic strength (uniform 0.25-1 of the effect's range), noise (uniform over the world's range, % of P0) and
+seed; ``--two-effect K`` adds K preparations per world that carry two different causes at once.  Each is diagnosed
+blind (the truth group removed).  A file of a world whose model has eq 18 carries ``length_dependent_activation``
+beside its hidden effects (``World.background_causes``).
+
+Scores (``score``), from each case's ``named`` list:
+
+* a hidden cause is **hit** when it is named, with a passing held-out gain;
+* a **wrong name** is a named cause that is neither hidden, nor in the world's background, nor allowed by it
+  (``World.allowed_causes``), or "unexplained" beside a catalogue effect;
+* a null is a **false alarm** when it names anything beyond the world's background;
+* a two-effect file scores **both named** when both of its causes are.
+
+Each case also records how close the baseline comes to the data: every held-out trial's residual RMS under the
+baseline over the true noise sd (1 at the noise floor; the baseline of a null of world B should stay within 1.25).
+
+The draws come from one generator per world, seeded by the suite seed and the world's name, so a suite is
+reproducible and adding a world does not change another's draws.  Units: %, s.
 """
 
 from __future__ import annotations
@@ -14,57 +28,85 @@ from __future__ import annotations
 import json
 import sys
 import time
-from dataclasses import asdict, dataclass
+import zlib
+from dataclasses import dataclass
 from typing import Any, Sequence
 
 import numpy as np
 
 from ..errors import InputError, NumericalError
 
-#: Strength (fraction of the effect's amplitude range) and noise (% of P0) ranges of the suite's draws.
+#: Strength (fraction of the effect's amplitude range) of the suite's draws.
 STRENGTH_RANGE = (0.25, 1.0)
-NOISE_PCT_RANGE = (1.0, 2.0)
 
 
 @dataclass(frozen=True)
 class SuiteCase:
-    """One preparation of the suite: the hidden effect ("none" for none), its strength (0-1), the noise (% of P0)
-    and the dataset seed."""
+    """One preparation of the suite: its world, hidden effects ((name, strength 0-1), none for a null), noise (% of
+    P0) and dataset seed."""
 
-    cause: str
-    strength: float
+    world: str
+    effects: tuple[tuple[str, float], ...]
     noise_pct: float
     seed: int
 
     @property
-    def expected(self) -> str:
-        """The verdict a correct diagnosis gives."""
+    def label(self) -> str:
+        return "+".join(n for n, _ in self.effects) or "none"
+
+    def expected(self) -> dict[str, list[str]]:
+        """What a right diagnosis names: "required" (the hidden catalogue causes and the world's background),
+        "allowed" (also acceptable) and whether "unexplained" is expected (an out-of-catalogue effect)."""
         from ..synth import OUTSIDE
+        from ..synth.worlds import world
 
-        return "unexplained" if self.cause in OUTSIDE else self.cause
+        w = world(self.world)
+        hidden = [n for n, _ in self.effects if n not in OUTSIDE]
+        outside = [n for n, _ in self.effects if n in OUTSIDE]
+        required = list(dict.fromkeys(hidden + list(w.background_causes)))
+        return {"required": required, "allowed": list(w.allowed_causes),
+                "unexplained": ["unexplained"] if outside else []}
 
 
-def suite_cases(n_seeds: int, causes: Sequence[str] | None = None, seed: int = 0) -> list[SuiteCase]:
+def _rng(seed: int, world_name: str) -> np.random.Generator:
+    return np.random.default_rng([seed, zlib.crc32(world_name.encode())])
+
+
+def suite_cases(n_seeds: int, causes: Sequence[str] | None = None, seed: int = 0,
+                worlds: Sequence[str] = ("B",), two_effect: int = 0) -> list[SuiteCase]:
     """n_seeds cases for each of ``causes`` (default: every canonical cause, the out-of-catalogue effects and
-    "none"), drawn from one generator seeded by ``seed``.  Every known cause is drawn and the others dropped, so a
-    subset gets the same draws as in the whole suite (and the first k seeds of N those of a suite of k)."""
+    "none") in each of ``worlds``, then ``two_effect`` two-cause cases per world; drawn from one generator per world
+    (module docstring).  Every known cause is drawn and the others dropped, so a subset gets the same draws as
+    the whole suite, and the first k seeds of N those of a suite of k."""
     from ..synth import CAUSES, OUTSIDE
+    from ..synth.worlds import world
 
-    if isinstance(n_seeds, bool) or not isinstance(n_seeds, int) or n_seeds < 1:
-        raise InputError(f"the suite needs an integer number of seeds >= 1, got {n_seeds!r}")
+    if isinstance(n_seeds, bool) or not isinstance(n_seeds, int) or n_seeds < 0:
+        raise InputError(f"the suite needs an integer number of seeds >= 0, got {n_seeds!r}")
+    if isinstance(two_effect, bool) or not isinstance(two_effect, int) or two_effect < 0:
+        raise InputError(f"--two-effect must be an integer >= 0, got {two_effect!r}")
     known = [*CAUSES, *OUTSIDE, "none"]
     names = list(causes) if causes else known
     unknown = [c for c in names if c not in known]
     if unknown:
         raise InputError(f"unknown cause(s) {unknown}; known: {', '.join(known)}")
-    rng = np.random.default_rng(seed)
     out = []
-    for _ in range(n_seeds):
-        for c in known:
-            case = SuiteCase(c, 0.0 if c == "none" else float(rng.uniform(*STRENGTH_RANGE)),
-                             float(rng.uniform(*NOISE_PCT_RANGE)), int(rng.integers(0, 2**31 - 1)))
-            if c in names:
-                out.append(case)
+    for wname in worlds:
+        w = world(wname)
+        rng = _rng(seed, w.name)
+        for _ in range(n_seeds):
+            for c in known:
+                effects = () if c == "none" else ((c, float(rng.uniform(*STRENGTH_RANGE))),)
+                case = SuiteCase(w.name, effects, float(rng.uniform(*w.noise_pct)), int(rng.integers(0, 2**31 - 1)))
+                if c in names:
+                    out.append(case)
+        pair_rng = np.random.default_rng([seed, zlib.crc32(w.name.encode()), 2])
+        catalogue = sorted(CAUSES)
+        for _ in range(two_effect):
+            a, b = pair_rng.choice(len(catalogue), size=2, replace=False)
+            effects = tuple((catalogue[k], float(pair_rng.uniform(*STRENGTH_RANGE))) for k in sorted((a, b)))
+            out.append(SuiteCase(w.name, effects, float(pair_rng.uniform(*w.noise_pct)),
+                                 int(pair_rng.integers(0, 2**31 - 1))))
     return out
 
 
@@ -75,88 +117,155 @@ def _journal(path: str | None, row: dict[str, Any]) -> None:
             fh.write(json.dumps(row) + "\n")
 
 
+def judge_case(case: SuiteCase, named: Sequence[str], passed: Sequence[str]) -> dict[str, Any]:
+    """The case's score from the causes ``named`` (in order, maybe "unexplained") and those among them named with
+    a passing held-out gain (``passed``)."""
+    exp = case.expected()
+    ok = set(exp["required"]) | set(exp["allowed"]) | set(exp["unexplained"])
+    hidden = [n for n, _ in case.effects if n in exp["required"]]
+    hits = {n: n in passed for n in hidden}
+    wrong = [n for n in named if n not in ok]
+    is_null = not case.effects
+    background = set(exp["required"]) - set(hidden)
+    return {"hits": hits, "wrong_names": wrong,
+            "background_named": {n: n in named for n in background},
+            "false_alarm": bool(is_null and [n for n in named if n not in set(exp["required"]) | set(exp["allowed"])]),
+            "expected_unexplained": bool(exp["unexplained"]),
+            "unexplained_hit": bool(exp["unexplained"]) and "unexplained" in named,
+            "both_named": (all(hits.values()) if len(case.effects) == 2 else None)}
+
+
 def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
-    """Hit rate per cause and overall, false-alarm rate on the nulls, wrong names, from the per-case results
-    (each with "cause", "expected", "verdict" and "gain_ok")."""
-    per: dict[str, dict[str, int]] = {}
+    """Hit rates per world and cause and overall, false alarms on the nulls, wrong names, two-effect files with
+    both causes named, from the per-case results (each with "world", "effects" and "score")."""
+    per: dict[str, dict[str, dict[str, int]]] = {}
+    nulls = fa = wrong_files = effects_files = 0
+    pairs = both = 0
     for r in results:
-        p = per.setdefault(r["cause"], {"n": 0, "hits": 0, "wrong_name": 0})
-        p["n"] += 1
-        hit = r["verdict"] == r["expected"] and (r["expected"] in ("none", "unexplained") or r["gain_ok"])
-        p["hits"] += int(hit)
-        p["wrong_name"] += int(r["verdict"] not in (r["expected"], "none", "unexplained", "error"))
-    effects = [r for r in results if r["cause"] != "none"]
-    nulls = [r for r in results if r["cause"] == "none"]
-    hits = sum(per[c]["hits"] for c in per if c != "none")
-    return {"per_cause": {c: {**p, "hit_rate_pct": round(100.0 * p["hits"] / p["n"], 1)} for c, p in per.items()},
-            "hit_rate_pct": round(100.0 * hits / len(effects), 1) if effects else None,
-            "false_alarm_rate_pct": (round(100.0 * sum(r["verdict"] not in ("none", "error") for r in nulls)
-                                           / len(nulls), 1) if nulls else None),
-            "errors": sum(r["verdict"] == "error" for r in results),
-            "wrong_name_rate_pct": (round(100.0 * sum(per[c]["wrong_name"] for c in per if c != "none")
-                                          / len(effects), 1) if effects else None),
-            "targets": {"hit_rate_pct": ">= 90", "false_alarm_rate_pct": "0"}}
+        if r.get("error"):
+            continue
+        s = r["score"]
+        w = per.setdefault(r["world"], {})
+        for n, hit in s["hits"].items():
+            p = w.setdefault(n, {"n": 0, "hits": 0})
+            p["n"] += 1
+            p["hits"] += int(hit)
+        for n, hit in s["background_named"].items():
+            p = w.setdefault(f"{n} (background)", {"n": 0, "hits": 0})
+            p["n"] += 1
+            p["hits"] += int(hit)
+        if s["expected_unexplained"]:
+            p = w.setdefault("unexplained (outside the catalogue)", {"n": 0, "hits": 0})
+            p["n"] += 1
+            p["hits"] += int(s["unexplained_hit"])
+        if not r["effects"]:
+            nulls += 1
+            fa += int(s["false_alarm"])
+        else:
+            effects_files += 1
+            wrong_files += int(bool(s["wrong_names"]))
+        if s["both_named"] is not None:
+            pairs += 1
+            both += int(s["both_named"])
+    hidden = [(n, hit) for r in results if not r.get("error") for n, hit in r["score"]["hits"].items()]
+
+    def pct(a: int, b: int) -> float | None:
+        return round(100.0 * a / b, 1) if b else None
+
+    return {"per_world": {w: {c: {**p, "hit_rate_pct": pct(p["hits"], p["n"])} for c, p in cs.items()}
+                          for w, cs in per.items()},
+            "hidden_causes": len(hidden), "hidden_named": sum(h for _, h in hidden),
+            "hit_rate_pct": pct(sum(h for _, h in hidden), len(hidden)),
+            "nulls": nulls, "false_alarms": fa, "false_alarm_rate_pct": pct(fa, nulls),
+            "files_with_a_wrong_name": wrong_files, "wrong_name_file_rate_pct": pct(wrong_files, effects_files),
+            "two_effect_files": pairs, "both_named": both, "both_named_pct": pct(both, pairs),
+            "errors": sum(bool(r.get("error")) for r in results),
+            "targets": {"hit_rate_pct": ">= 90, no wrong name", "false_alarms": "0",
+                        "both_named_pct": ">= 80"}}
+
+
+def run_case(case: SuiteCase, workers: int) -> dict[str, Any]:
+    """Make and diagnose one case blind; its record (draw, named, per-step candidates, score, wall time)."""
+    from ..diagnose.diagnosis import diagnose_data
+    from ..synth import make_dataset, truth, without_truth
+
+    t0 = time.perf_counter()
+    first, *also = case.effects or ((None, 0.0),)
+    data = make_dataset(first[0], first[1], case.seed, noise_pct=case.noise_pct, workers=workers, world=case.world,
+                        also=dict(also) or None)
+    row: dict[str, Any] = {"world": case.world, "effects": [list(e) for e in case.effects],
+                           "noise_pct": case.noise_pct, "seed": case.seed, "label": case.label}
+    try:
+        d = diagnose_data(without_truth(data), workers=workers)
+    except (InputError, NumericalError) as e:  # one case's failure is recorded, and the suite goes on
+        return {**row, "error": str(e), "named": [], "wall_s": round(time.perf_counter() - t0, 1)}
+    passed = [s.named for s in d.steps if s.named is not None]
+    sd = float(truth(data)["noise_sd_N"])
+    ratio = {i: float(np.sqrt(np.mean((d.baseline.simulated[i] - data.trials[i].force) ** 2))) / sd
+             for i in d.split.heldout} if sd > 0 else {}
+    row.update({
+        "named": d.named, "verdict": d.verdict,
+        "steps": [{"named": s.named,
+                   "candidates": {n: {"chi2_gain": round(c.evidence.chi2_gain, 1), "score": round(c.evidence.score, 1),
+                                      "excess": round(c.evidence.excess, 1),
+                                      "excess_removed": round(c.evidence.excess_removed, 3),
+                                      "share_of_baseline_excess": (
+                                          None if c.evidence.share_of_baseline_excess is None else
+                                          round(c.evidence.share_of_baseline_excess, 3)),
+                                      "window": c.evidence.window_how,
+                                      "window_chi2_gain": (None if c.evidence.window_chi2_gain is None else
+                                                           round(c.evidence.window_chi2_gain, 1)),
+                                      "structured_before": len(c.evidence.structured_before),
+                                      "failed": sorted(c.evidence.failed)}
+                                  for n, c in s.candidates.items() if c.evidence is not None},
+                   "screening": {n: round(c.screen.score, 1) for n, c in s.candidates.items()
+                                 if c.screen is not None},
+                   "seconds": {"screening": round(s.screen_s, 1),
+                               **{n: round(c.model.wall_s, 1) for n, c in s.candidates.items() if c.model},
+                               **({"consolidation": round(s.consolidated.wall_s, 1)} if s.consolidated else {})}}
+                  for s in d.steps],
+        "baseline_s": round(d.baseline.model.wall_s, 1),
+        "baseline_converged": d.baseline.model.converged,
+        "baseline_heldout_rms_over_noise": {i: round(v, 3) for i, v in ratio.items()},
+        "structured_trials": list(d.structured_after),
+        "wall_s": round(time.perf_counter() - t0, 1)})
+    row["score"] = judge_case(case, d.named, passed)
+    return row
 
 
 def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 0, workers: int = 2,
-              progress: bool = False, journal: str | None = None, first: int = 1,
-              protocols: str = "extended") -> dict[str, Any]:
-    """Make and diagnose every case of ``suite_cases`` (blind) and return {"cases": [...], **score}; each case
-    records its draw, the protocol set, the verdict, the held-out gain of the named extension (if any), each fitted
-    candidate's held-out chi-square gain and the rules it failed, every testable extension's screening score, the
-    trials still structured under the verdict's model and the wall time (s).  journal: a file to which each case's
-    record is appended as one JSON line when it is done (a long suite's finished cases survive an interrupt);
-    first: the case (1-based, in ``suite_cases`` order) to start from, to resume an interrupted suite.  protocols:
-    synth's protocol set ("extended", the default since stop 36, or "standard"; the draws are the same in both)."""
-    from ..diagnose.diagnosis import diagnose_data
-    from ..diagnose.verdict import rest_structured
-    from ..synth import make_dataset, without_truth
-
-    cases = suite_cases(n_seeds, causes, seed)
+              worlds: Sequence[str] = ("B",), two_effect: int = 0, progress: bool = False,
+              journal: str | None = None, first: int = 1) -> dict[str, Any]:
+    """Make and diagnose every case of ``suite_cases`` blind and return {"cases": [...], **score}.  journal: a
+    file to which each case's record is appended as one JSON line when done (a long suite's finished cases survive
+    an interrupt); first: the case (1-based, in ``suite_cases`` order) to start from, to resume."""
+    cases = suite_cases(n_seeds, causes, seed, worlds, two_effect)
+    if not cases:
+        raise InputError("the suite has no case: give --suite N >= 1 or --two-effect K >= 1")
     if isinstance(first, bool) or not isinstance(first, int) or not 1 <= first <= len(cases):
         raise InputError(f"the first case must be between 1 and {len(cases)}, got {first!r}")
     results = []
     for k, case in enumerate(cases[first - 1:], first):
-        t0 = time.perf_counter()
-        data = make_dataset(None if case.cause == "none" else case.cause, case.strength, case.seed,
-                            noise_pct=case.noise_pct, workers=workers, protocols=protocols)
-        try:
-            d = diagnose_data(without_truth(data), workers=workers)
-        except (InputError, NumericalError) as e:  # one case's failure is recorded, and the suite goes on
-            row = {**asdict(case), "protocols": protocols, "expected": case.expected, "verdict": "error",
-                   "error": str(e), "gain_ok": False, "heldout_gain": None,
-                   "wall_s": round(time.perf_counter() - t0, 1)}
-            results.append(row)
-            _journal(journal, row)
-            if progress:
-                print(f"neuromuscle bench diagnose --suite: {k}/{len(cases)} {case.cause}: ERROR {e}",
-                      file=sys.stderr, flush=True)
-            continue
-        ev = d.evidence.get(d.verdict)
-        row = {**asdict(case), "protocols": protocols, "expected": case.expected, "verdict": d.verdict,
-               "gain_ok": bool(ev is not None and ev.passed),
-               "heldout_gain": None if ev is None else float(ev.chi2_gain),
-               "candidates_fitted": {n: e.failed for n, e in d.evidence.items()},
-               "candidates_chi2": {n: round(float(e.chi2_gain), 1) for n, e in d.evidence.items()},
-               "screening_scores": {n: round(s.score, 1) for n, s in d.screens.items()},
-               "structured_trials": list(d.structured_after),
-               "rest_structured_trials": rest_structured(d.rest)[0],
-               "wall_s": round(time.perf_counter() - t0, 1)}
+        row = run_case(case, workers)
         results.append(row)
         _journal(journal, row)
         if progress:
-            print(f"neuromuscle bench diagnose --suite: {k}/{len(cases)} {case.cause} (strength "
-                  f"{case.strength:.2f}, noise {case.noise_pct:.2f} %, seed {case.seed}) -> {d.verdict} "
-                  f"({row['wall_s']:.0f} s)", file=sys.stderr, flush=True)
-    return {"n_seeds": n_seeds, "seed": seed, "workers": workers, "protocols": protocols, "cases": results,
-            **score(results)}
+            what = f"ERROR {row['error']}" if row.get("error") else f"named {', '.join(row['named']) or 'none'}"
+            print(f"neuromuscle bench diagnose --suite: {k}/{len(cases)} world {case.world} {case.label} (seed "
+                  f"{case.seed}, noise {case.noise_pct:.2f} %) -> {what} ({row['wall_s']:.0f} s)", file=sys.stderr,
+                  flush=True)
+    return {"n_seeds": n_seeds, "seed": seed, "workers": workers, "worlds": list(worlds), "two_effect": two_effect,
+            "cases": results, **score(results)}
 
 
 def table_lines(res: dict[str, Any]) -> list[str]:
-    """The suite's result as Markdown: per cause n, hits, hit rate, wrong names; then the overall rates."""
-    lines = ["| cause | n | hits | hit rate % | named as another cause |", "|---|---|---|---|---|"]
-    for c, p in res["per_cause"].items():
-        lines.append(f"| {c} | {p['n']} | {p['hits']} | {p['hit_rate_pct']} | {p['wrong_name']} |")
-    lines += ["", f"hit rate {res['hit_rate_pct']} % (target >= 90 %), false alarms on nulls "
-                  f"{res['false_alarm_rate_pct']} % (target 0), wrong names {res['wrong_name_rate_pct']} %"]
+    """The suite's result as Markdown: per world and cause, n, hits and hit rate; then the overall rates."""
+    lines = ["| world | cause | n | named | rate % |", "|---|---|---|---|---|"]
+    for w, cs in res["per_world"].items():
+        for c, p in cs.items():
+            lines.append(f"| {w} | {c} | {p['n']} | {p['hits']} | {p['hit_rate_pct']} |")
+    lines += ["", f"hidden causes named {res['hidden_named']} of {res['hidden_causes']} ({res['hit_rate_pct']} %); "
+                  f"false alarms {res['false_alarms']} of {res['nulls']} nulls; files with a wrong name "
+                  f"{res['files_with_a_wrong_name']}; both causes named in {res['both_named']} of "
+                  f"{res['two_effect_files']} two-effect files; errors {res['errors']}"]
     return lines

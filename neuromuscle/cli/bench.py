@@ -26,12 +26,17 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bf.add_argument("--params", default="CT09")
     bf.add_argument("--json", action="store_true")
     bf.set_defaults(func=run)
-    bd = bsub.add_parser("diagnose", help="wall time of one full diagnosis of a synthetic null file (--protocols: "
-                                          "28 or 36 trials) and of its baseline calibration alone")
+    bd = bsub.add_parser("diagnose", help="wall time of one full diagnosis of a synthetic null file (the world "
+                                          "--world, by default B: 36 trials) and of its baseline calibration alone")
     bd.add_argument("--workers", type=int, default=2)
+    bd.add_argument("--world", default="B", help="the world of the single file (neuromuscle synth --list)")
     bd.add_argument("--suite", type=int, default=None, metavar="N",
-                    help="instead: N synthetic preparations per cause (every canonical cause, the out-of-catalogue "
-                         "effect, none) diagnosed blind; hit and false-alarm rates (about 5 min a preparation)")
+                    help="instead: N synthetic preparations per cause and world (every canonical cause, the "
+                         "out-of-catalogue effect, none) diagnosed blind; rates per cause and world (2-5 min a "
+                         "preparation)")
+    bd.add_argument("--worlds", default="B", help="with --suite: the worlds, comma separated")
+    bd.add_argument("--two-effect", type=int, default=0, metavar="K",
+                    help="with --suite: also K preparations per world with two hidden causes at once")
     bd.add_argument("--causes", default=None, help="with --suite: only these causes, comma separated")
     bd.add_argument("--seed", type=int, default=0, help="with --suite: the draws' seed")
     bd.add_argument("--journal", default=None, metavar="FILE",
@@ -41,10 +46,6 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bd.add_argument("--separability", action="store_true",
                     help="with --suite: instead of diagnosing, how far each case's hidden effect can be told from "
                          "calibration, to first order at the truth (about 1 min a case)")
-    bd.add_argument("--protocols", default=None,
-                    help="synth's protocol set of the file(s): extended (36 trials; a suite's default) or standard "
-                         "(28; the single file's default, as item 8 of issue 9 times it); a suite's draws are the same "
-                         "in both")
     bd.add_argument("--json", action="store_true")
     bd.set_defaults(func=run_diagnose)
     bi = bsub.add_parser("intervals", help="coverage of the fit's 95 %% intervals on SciPy reference data with "
@@ -99,7 +100,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bp.add_argument("--channels", choices=CHANNELS, default="fused",
                     help="motoneuron channels: fused (mn_soma + mn_pic, tabulated) or separate (the reference)")
     bp.add_argument("--nthread", type=int, default=1, help="NEURON threads per rank")
-    bp.add_argument("--drive", choices=("ramp", "poisson"), default="ramp")
+    bp.add_argument("--drive", choices=("synaptic", "ramp", "poisson"), default="synaptic",
+                    help="synaptic: common synaptic conductance to 0.6 uS (human-like rates); ramp: common current "
+                         "to 20 nA; poisson: independent Poisson input")
+    bp.add_argument("--engines", default="neuron",
+                    help="engines, comma separated: neuron, coreneuron (both: their results compared)")
     bp.add_argument("--full", action="store_true", help="N = 100..800, 5 s (about half an hour on 2 cores)")
     bp.add_argument("--json", action="store_true")
     bp.set_defaults(func=run_pool)
@@ -125,14 +130,14 @@ def run_pool(args: argparse.Namespace) -> int:
     substeps = (8 if args.muscle == "fused" else 1) if args.substeps is None else args.substeps
     res = bench_pool(units, _int_list("--ranks", args.ranks), duration, args.dt_ms, args.drive, args.full,
                      progress=True, muscle=args.muscle, substeps=substeps, nthread=args.nthread,
-                     channels=args.channels)
+                     channels=args.channels, engines=[e.strip() for e in args.engines.split(",") if e.strip()])
     print(json.dumps(res, indent=1) if args.json else "\n".join(table_lines(res)))
     return 0
 
 
 def run_diagnose(args: argparse.Namespace) -> int:
     from ..bench.diagnose import bench_diagnose
-    from ..synth.protocols import protocol_builder
+    from ..synth.worlds import world
 
     if args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
@@ -140,26 +145,28 @@ def run_diagnose(args: argparse.Namespace) -> int:
         from ..bench.diagnose_suite import run_suite, suite_cases, table_lines
 
         causes = [c.strip() for c in args.causes.split(",") if c.strip()] if args.causes else None
-        suite_cases(args.suite, causes, args.seed)  # bad input refused before any work
-        protocols = "extended" if args.protocols is None else args.protocols
-        protocol_builder(protocols)
+        worlds = [w.strip() for w in args.worlds.split(",") if w.strip()]
+        for w in worlds:
+            world(w)
+        suite_cases(args.suite, causes, args.seed, worlds, args.two_effect)  # bad input refused before any work
         if args.separability:
-            from ..bench.separability import run_separability, table_lines as separability_lines
+            from ..bench.separability import run_separability
+            from ..bench.separability import table_lines as separability_lines
 
             rows = run_separability(args.suite, causes=causes, seed=args.seed, workers=args.workers,
-                                    first=args.first, journal=args.journal, protocols=protocols)
+                                    first=args.first, journal=args.journal, worlds=worlds)
             print(json.dumps([s.to_json() for s in rows], indent=2) if args.json else
                   "\n".join(separability_lines(rows)))
             return 0
-        res = run_suite(args.suite, causes=causes, seed=args.seed, workers=args.workers, progress=True,
-                        journal=args.journal, first=args.first, protocols=protocols)
+        res = run_suite(args.suite, causes=causes, seed=args.seed, workers=args.workers, worlds=worlds,
+                        two_effect=args.two_effect, progress=True, journal=args.journal, first=args.first)
         print(json.dumps(res, indent=2) if args.json else "\n".join(table_lines(res)))
         return 0
-    if args.causes is not None or args.journal is not None or args.first != 1 or args.separability:
-        raise InputError("--causes, --journal, --first and --separability need --suite")
-    protocols = "standard" if args.protocols is None else args.protocols
-    protocol_builder(protocols)  # an unknown set refused before any work
-    _print(bench_diagnose(args.workers, protocols), args.json)
+    if args.causes is not None or args.journal is not None or args.first != 1 or args.separability or \
+            args.two_effect:
+        raise InputError("--causes, --journal, --first, --two-effect and --separability need --suite")
+    world(args.world)  # an unknown world refused before any work
+    _print(bench_diagnose(args.workers, args.world), args.json)
     return 0
 
 

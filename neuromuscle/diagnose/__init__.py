@@ -1,11 +1,12 @@
-"""Diagnosis of measured data (shared/spec/diagnosis.md): what the simulation gets wrong, why, and the held-out gain
-of the extension that fixes it.
+"""Diagnosis of measured data: what the simulation gets wrong, why, and what the extension that fixes it gains on
+trials it never saw.
 
-Modules, one step each: ``split`` (calibration / held-out trials), ``baseline`` (steps 1-2: calibration without
-eq 18 and eqs 19-20, every trial's error), ``residuals`` (step 3: explanatory variables, A(t) by inversion, noise),
-``candidates`` (step 3: canonical causes, telling trials, ranking, untestable causes), ``extension_fit`` (step 4:
-a catalogue extension fitted on calibration trials), ``verdict`` (step 5: the decision rule in numbers),
-``diagnosis`` (steps 1-5 in memory), ``report`` (diagnosis.json, report.md, figures, params.json).
+Modules, one concern each: ``phases`` (what each trial is, described once), ``split`` (calibration and held-out
+trials), ``baseline`` (the model without eq 18 and eqs 19-20, calibrated), ``models`` (fitting a model with
+extensions), ``residuals`` (noise, explanatory variables, trends at rest), ``causes`` (the catalogue's causes:
+telling trials and where each is defined), ``screening`` (which candidates to fit), ``evidence`` (held-out
+statistics), ``rules`` (the decision rules as a table), ``selection`` (forward selection of causes),
+``diagnosis`` (all steps in memory) and ``report`` (diagnosis.json, report.md, figures, params.json).
 """
 
 from .diagnosis import Diagnosis, diagnose_data

@@ -1,91 +1,74 @@
-"""Step 1-2 of the diagnosis: the baseline model calibrated on the calibration trials, and every trial's error.
+"""The baseline: the Kim, Sandercock & Heckman 2015 muscle without eq 18 and eqs 19-20 (those are the extensions of
+``length_dependent_activation``, ``movement_induced_depression`` and ``lengthening_below_optimum``), calibrated on
+the calibration trials, converged or saying that it did not.
 
-The baseline is Modules 1-3 with eq 18 and eqs 19-20 switched off (the length and movement extensions are
-candidates, not baseline).  Calibration (``calibrate_baseline``), reusing :mod:`neuromuscle.calibration`, uses the
-calibration trials of the seed's kind: isometric twitches and sub-tetanic trains (stimuli spanning at most
-``MAX_TRAIN_S`` = 1 s, the seed's 1 s trains); longer trains and moving trials calibrate only the candidate
-extensions (so a slow effect, e.g. fatigue, does not bend the baseline).  With 0.5 s, a standard ``synth`` file's
-baseline saw its twitches and the 100 Hz train only: Module 2's rate dependence was not identified, and the
-baseline's 10 Hz trials could sit at ~110 % NRMSE (suite seed 1's doublet case), a misfit that the residual
-analysis then ranked as a cause.  When no calibration trial is of the seed's kind (e.g. a
-preparation recorded only as long constant-rate tetani, as in stretch experiments), the isometric stimulated
-calibration trials of any train length calibrate instead, and only step 2 runs (the seed's Module 2 stage needs
-twitches or sub-tetanic trains; at one rate, Module 2's rate dependence is not identified, only the time course
-of the tetanus' rise and fall and, with P0, its plateau).  Moving trials never calibrate the baseline: a
-force-velocity or series-elastic fit to stretch-hold trials would absorb history effects (a steep eccentric
-branch holds force after a stretch).  The one exception is a quick step shortening (protocol "step", a length
-trace), the seed's measurement of the series-elastic stiffness: KSE = force drop / step / P0 (seed 2.2.2,
-:func:`neuromuscle.calibration.module3.calibrate_kse`), read within 5 ms of the step, before any history effect
-can act.  Until stop 28 the step trial was filtered out with the other moving trials, so KSE stayed at the base
-set's 0.4 /mm whatever the preparation (synth draws 0.25-0.65 /mm).  In suite seed 1's relaxation preparation
-(KSE 0.563 /mm), calibrating KSE lowers the reference's chi-square above noise from 8.9e3 to 2.3e3 noise variances
-on its calibration trials and from 6.3e3 to 1.9e3 on the held-out ones, most of it in the moving trials.  After the
-refinement moves P0, KSE is rescaled so that P0 x KSE, the stiffness the step measured (N/mm), is kept.
+1. **Scale.**  The base set (CT09 or CT95) is simulated once on the calibration trials and its force-like
+   parameters (P0, a0, c0, N) are scaled by the median ratio of measured to simulated peak force, so a start is
+   never a decade off for a muscle of another size.
+2. **Staged estimate** (Kim, Sandercock & Heckman 2015, section 2.2.2; ``neuromuscle.calibration``): Module 3 from
+   the file's force-length and force-velocity points and a step shortening (KSE) when it has them, then Module 2
+   on the isometric stimulated trials at the optimum (or at the isometric length with most trials).
+3. **Joint fit** (:func:`.models.fit_model`) of the parameters the file identifies (:func:`free_parameters`) on
+   every calibration trial, from the staged estimate and from the scaled base set; the better start continues to
+   convergence.  Module 3 comes from what the file offers: its static points when it has them (those parameters
+   then stay as the points measured them), otherwise the isometric phases of the trials at several lengths and
+   the ramps.
 
-1. the seed's staged calibration (Module 3 from force-length / force-velocity points and a step when the file
-   has them; Module 2 (C1, C2, C3, alpha) on isometric trials at the optimum; the eq 18 stage off).  When no
-   trial lies at g1, Module 2 uses the isometric length with the most stimulated calibration trials;
-2. a refinement of what the isometric calibration trials identify jointly: P0 (with >= 1 length), g2 (>= 2
-   lengths), g1 (>= 3 lengths) unless force-length points calibrated them, with C1, C2, C3, alpha (a preparation's
-   parameters differ from CT09 by tens of percent in every module).  It starts from the staged estimate and,
-   when step 1 left a Module 2 parameter unidentified, also from the base set's Module 2, and keeps the lower
-   cost: a stage fitted on few trials can leave Module 2 where the others' gradient vanishes (suite seed 1's
-   doublet case with trains up to 0.5 s: the Module 2 stage saw only a 100 Hz tetanus, put alpha at its bound 8
-   and C1 at 0.028, unidentified, and the refinement from there left every twitch at ~100 % NRMSE; from CT09's
-   Module 2, 10-11 %).
-
-Simulation: fixed step ``DT_MS`` = 0.1 ms (twitch peak error 0.27 % against SciPy, README; well below the 1-2 %
-noise of measured force), recorded every 0.5 ms, no settling before the trial's first sample (``SETTLE_MS`` = 0):
-every mechanism, extensions included, starts at its resting steady state at the trial's first length
-(``MuscleUnit(initial_state="rest")``), so a settling run changes nothing but the cost.  Until stop 31 every run
-settled 300 ms first, 10 % of all the steps of a standard file's diagnosis; on a twitch, a train, a ramp, a hold,
-the random length and the step, with every extension at its defaults, the force with and without it differs by
-at most 7e-5 % of P0 (``tests/diagnose/test_diagnose_baseline.py``).
+Moving trials, long trains and every other calibration trial take part in the joint fit: an effect in them may
+bend the baseline, and the candidate that explains it is fitted with the same baseline freedom
+(:mod:`.models`), so it unbends it.
 """
 
 from __future__ import annotations
 
 import sys
-from dataclasses import dataclass, replace
-from typing import Sequence
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
 
 import numpy as np
 
-from ..analysis.metrics import nrmse_percent
 from ..calibration import MODULE2_FREE, StageResult, calibrate_module2, staged_calibration
 from ..calibration.staged import FORCE_LENGTH_PATH
-from ..calibration.module3 import kse_from_steps
-from ..calibration.trials import OPTIMUM_TOLERANCE_MM, is_step_trial, isometric_length
-from ..errors import InputError, NumericalError
-from ..fit import FitProblem, SimulationOptions, fit, trial_simulation
+from ..errors import InputError
 from ..fit.evaluate import TrialPool
 from ..measured import MeasuredData, Trial
 from ..parameters import SPECS, ParameterSet
+from .models import MODEL_MAX_ITERATIONS, OPTIONS, FittedModel, fit_model, simulate_all
+from .phases import TrialPhases
+from .residuals import Noise, noise_level
 
-DT_MS = 0.1
-#: Simulated time (ms) before a trial's first sample: none, as the model starts at rest (module docstring).
-SETTLE_MS = 0.0
-OPTIONS = SimulationOptions(dt_ms=DT_MS, record_dt_ms=0.5, settle_ms=SETTLE_MS, length_compensation=False,
-                            movement_compensation=False)
-#: Longest stimulus train (s) used to calibrate the baseline.
-MAX_TRAIN_S = 1.0
-#: Module 2 parameters held at their base values when the baseline is calibrated from tetani at a single rate
-#: (they set the plateau's activation at that rate, which only P0 x A is seen of).
-TETANIC_ONE_RATE_FIXED = ("C1", "C2")
 #: Fewest calibration and held-out trials a diagnosis accepts.
 MIN_CALIBRATION, MIN_HELDOUT = 4, 2
+#: Parameters in N, scaled with the muscle's size in the scaled start.
+FORCE_PARAMETERS = ("P0", "a0", "c0")
+#: Module 2 and Module 1 parameters every baseline fit frees (the time course and rate dependence of activation).
+ACTIVATION = ("C1", "C2", "C3", "alpha", "Umax", "tau2")
+#: Lengths (mm) closer than this count as one.
+LENGTH_TOL_MM = 0.5
 
 
 @dataclass
 class Baseline:
-    """The calibrated baseline: parameters, the stages that made them, each trial's simulated force (N) and NRMSE
-    (%, eq 17), and the simulation options."""
+    """The calibrated baseline: the fitted model, its free parameters and why others are held, the base set scaled
+    to the file's force, the staged estimate and its stages, and the noise of every trial (from the staged
+    estimate's residuals)."""
 
-    parameters: ParameterSet
+    model: FittedModel
+    free: tuple[str, ...]
+    held: dict[str, str]
+    scaled: ParameterSet
+    staged: ParameterSet
     stages: list[StageResult]
-    simulated: dict[str, np.ndarray]
-    nrmse: dict[str, float]
-    options: SimulationOptions
+    noise: dict[str, Noise]
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def parameters(self) -> ParameterSet:
+        return self.model.parameters
+
+    @property
+    def simulated(self) -> dict[str, np.ndarray]:
+        return self.model.simulated
 
 
 def check_trials(data: MeasuredData) -> None:
@@ -107,6 +90,9 @@ def check_trials(data: MeasuredData) -> None:
     if silent:
         raise InputError(f"{where}: trial(s) {silent} have no stimulus times: the diagnosis compares stimulated "
                          "responses; remove passive trials (or add their stimulus times)")
+    few = [t.trial_id for t in data.trials.values() if t.n_samples < 8]
+    if few:
+        raise InputError(f"{where}: trial(s) {few} have fewer than 8 samples: too few to estimate their noise")
 
 
 def check_split_sizes(calibration: Sequence[str], heldout: Sequence[str]) -> None:
@@ -117,60 +103,83 @@ def check_split_sizes(calibration: Sequence[str], heldout: Sequence[str]) -> Non
                          f"{MIN_CALIBRATION + MIN_HELDOUT} stimulated trials in N and mm)")
 
 
-def _subset(data: MeasuredData, ids: Sequence[str]) -> MeasuredData:
-    return MeasuredData(trials={i: data.trials[i] for i in ids}, attrs=data.attrs, path=data.path,
-                        extra_datasets=data.extra_datasets, extra_attrs=data.extra_attrs)
-
-
-def _seed_kind(t: Trial) -> bool:
-    """An isometric trial whose stimuli span at most MAX_TRAIN_S (a twitch or a sub-tetanic train)."""
-    s = np.asarray(t.stimulus_times_s, dtype=float)
-    return isometric_length(t) is not None and s.size >= 1 and float(s.max() - s.min()) <= MAX_TRAIN_S
-
-
-def _stimulated_isometric(t: Trial) -> bool:
-    """An isometric trial with at least one stimulus (any train length)."""
-    return isometric_length(t) is not None and np.size(t.stimulus_times_s) >= 1
-
-
-def baseline_trials(data: MeasuredData, calibration: Sequence[str]) -> tuple[str, list[str]]:
-    """Which calibration trials calibrate the baseline, and the kind: ("seed", the isometric twitches and short
-    trains) when there are any, else ("tetanic", every isometric stimulated trial); InputError with neither."""
-    seed = [i for i in calibration if _seed_kind(data.trials[i])]
-    if seed:
-        return "seed", seed
-    tetani = [i for i in calibration if _stimulated_isometric(data.trials[i])]
-    if tetani:
-        return "tetanic", tetani
-    raise InputError(f"no calibration trial is isometric and stimulated (a twitch, a train or a tetanus at one "
-                     f"length): the baseline cannot be calibrated (calibration trials: {', '.join(calibration)})")
-
-
-def step_trials(data: MeasuredData, calibration: Sequence[str]) -> list[str]:
-    """The calibration trials that measure the series-elastic stiffness: protocol "step" with a length trace, in
-    N and mm (the staged calibration's KSE stage reads them)."""
-    return [i for i in calibration if is_step_trial(data.trials[i])]
-
-
-def _isometric(trials: Sequence[Trial]) -> dict[float, list[Trial]]:
-    """Isometric trials grouped by length (mm): lengths within OPTIMUM_TOLERANCE_MM of a group's first (shortest)
-    length are one length (measured lengths scatter by the transducer's noise)."""
-    out: dict[float, list[Trial]] = {}
-    for x, t in sorted(((isometric_length(t), t) for t in trials if isometric_length(t) is not None),
-                       key=lambda p: p[0]):
-        key = next((k for k in out if abs(x - k) <= OPTIMUM_TOLERANCE_MM), round(x, 6))
-        out.setdefault(key, []).append(t)
+def _lengths(values: Sequence[float]) -> list[float]:
+    """Distinct lengths (mm) among ``values``: within LENGTH_TOL_MM of a kept one count as it."""
+    out: list[float] = []
+    for x in sorted(values):
+        if not out or x - out[-1] > LENGTH_TOL_MM:
+            out.append(x)
     return out
 
 
-def _rates_hz(trials: Sequence[Trial]) -> set[float]:
-    """The distinct mean stimulation rates (Hz, to 1 Hz) of trials with two stimuli or more."""
-    out = set()
-    for t in trials:
-        s = np.sort(np.asarray(t.stimulus_times_s, dtype=float))
-        if s.size >= 2 and s[-1] > s[0]:
-            out.add(round((s.size - 1) / (s[-1] - s[0])))
-    return out
+def free_parameters(data: MeasuredData, phases: Mapping[str, TrialPhases],
+                    calibration: Sequence[str]) -> tuple[tuple[str, ...], dict[str, str]]:
+    """The baseline parameters the calibration trials identify, and those held with the reason.
+
+    Always Module 2's C1, C2, C3, alpha, Module 1's Umax and tau2 and P0; C1 and C2 held when every stimulated
+    calibration trial is a tetanus at one rate (they set the plateau's activation, of which only P0 x A is seen).
+    g2 with isometric phases at two lengths or more or with active movement, g1 with three or more or with active
+    movement, unless the file's force-length points measured them: tetani at full activation give g1 and g2 free of
+    any length dependence of activation, which low-rate trials at few lengths would otherwise let the baseline bend
+    them to absorb.  With active movement: KSE and the force-velocity coefficients, a0 and b0 with shortening, c0
+    and d0 with lengthening; a file's force-velocity points and its step shortening give the staged estimate these
+    start from, and the trials refine them (the points carry their own noise, and the step's direct estimate of KSE
+    reads low by the contractile element's shortening during the step)."""
+    cal = [phases[i] for i in calibration]
+    held: dict[str, str] = {}
+    free = list(ACTIVATION)
+    rates = {round(p.regular_rate_hz) for p in cal if p.regular_rate_hz > 0}
+    twitches = any(p.n_stimuli == 1 or p.regular_rate_hz == 0 for p in cal)
+    if len(rates) <= 1 and not twitches:
+        for n in ("C1", "C2"):
+            free.remove(n)
+            held[n] = "every calibration trial is a tetanus at one rate: the plateau's activation is confounded with P0"
+    free.append("P0")
+    lengths = _lengths([float(p.length_mm[m].mean()) for p in cal for m in [p.isometric_stimulated()] if m.any()])
+    moving = [p for p in cal if p.active_movement]
+    if FORCE_LENGTH_PATH in data.extra_datasets:
+        held["g1"] = held["g2"] = "measured by the file's force-length points (tetani at full activation)"
+    else:
+        if len(lengths) >= 2 or moving:
+            free.append("g2")
+        else:
+            held["g2"] = "isometric force at one length only"
+        if len(lengths) >= 3 or moving:
+            free.append("g1")
+        else:
+            held["g1"] = f"isometric force at {len(lengths)} length(s) and no movement"
+    if not moving:
+        for n in ("KSE", "a0", "b0", "c0", "d0"):
+            held[n] = "no active movement in the calibration trials"
+        return tuple(free), held
+    free.append("KSE")
+    shortening = any(np.any(p.moving & p.stimulated & (p.velocity_mm_s < 0)) for p in moving)
+    lengthening = any(np.any(p.moving & p.stimulated & (p.velocity_mm_s > 0)) for p in moving)
+    for names, ok, what in ((("a0", "b0"), shortening, "shortening"), (("c0", "d0"), lengthening, "lengthening")):
+        for n in names:
+            if ok:
+                free.append(n)
+            else:
+                held[n] = f"no active {what} in the calibration trials"
+    return tuple(free), held
+
+
+def _peak_ratio(data: MeasuredData, ids: Sequence[str], sims: Mapping[str, np.ndarray]) -> float:
+    """Median over trials of measured / simulated peak force."""
+    r = [float(np.max(data.trials[i].force)) / float(np.max(sims[i])) for i in ids if float(np.max(sims[i])) > 0]
+    return float(np.median(r)) if r else 1.0
+
+
+def scaled_base(data: MeasuredData, calibration: Sequence[str], base: ParameterSet,
+                pool: TrialPool | None) -> ParameterSet:
+    """``base`` with its force parameters (FORCE_PARAMETERS, N) scaled by the median ratio of measured to
+    simulated peak force over the calibration trials, kept inside P0's admissible range."""
+    trials = [data.trials[i] for i in calibration]
+    sims = simulate_all(base, trials, pool=pool)
+    k = _peak_ratio(data, calibration, sims)
+    lo, hi = SPECS["P0"].lower, SPECS["P0"].upper
+    k = float(np.clip(k, lo / base["P0"] * 1.001, hi / base["P0"] * 0.999))
+    return base.with_values(**{n: base[n] * k for n in FORCE_PARAMETERS})
 
 
 def _say(progress: bool, text: str) -> None:
@@ -178,92 +187,56 @@ def _say(progress: bool, text: str) -> None:
         print(f"[diagnose] {text}", file=sys.stderr, flush=True)
 
 
-def calibrate_baseline(data: MeasuredData, calibration: Sequence[str], base: ParameterSet, *, workers: int = 1,
-                       options: SimulationOptions = OPTIONS, progress: bool = False,
-                       max_iterations: int = 12, pool: TrialPool | None = None) -> Baseline:
+def calibrate_baseline(data: MeasuredData, phases: Mapping[str, TrialPhases], calibration: Sequence[str],
+                       base: ParameterSet, *, pool: TrialPool | None = None, progress: bool = False) -> Baseline:
     """Calibrate the baseline on the ``calibration`` trials (module docstring) and simulate every trial of
-    ``data``.  pool: a :class:`~neuromuscle.fit.evaluate.TrialPool` of ``data``'s trials for every fit and
-    simulation, instead of ``workers`` processes per fit."""
-    kind, ids = baseline_trials(data, calibration)
-    steps = step_trials(data, calibration)
-    cal = _subset(data, ids)
-    calibration = list(cal.trials)
-    by_length = _isometric(list(cal.trials.values()))
-    if kind == "seed":
-        _say(progress, f"baseline: staged calibration on {len(calibration)} trials"
-                       + (f" (KSE from {', '.join(steps)})" if steps else ""))
-        # the step trials reach only the KSE stage: Module 2's and the length stage's trials are isometric
-        staged = staged_calibration(_subset(data, ids + steps), base, options=options, workers=workers,
-                                    max_iterations=max_iterations, progress=False, name=f"{base.name}-baseline",
-                                    length_compensation=False, pool=pool)
-        params, stages = staged.parameters, list(staged.stages)
+    ``data`` with it.  pool: a TrialPool holding ``data``'s trials for every fit and simulation."""
+    trials = list(data.trials.values())
+    cal = [data.trials[i] for i in calibration]
+    free, held = free_parameters(data, phases, calibration)
+    _say(progress, f"baseline: scaling {base.name} to the file's force")
+    scaled = scaled_base(data, calibration, base, pool)
+    stage_ids = [i for i in calibration if phases[i].isometric_length_mm is not None or phases[i].protocol == "step"]
+    notes = [f"{base.name} scaled to the file's force: P0 {base['P0']:.4g} -> {scaled['P0']:.4g} N"]
+    if stage_ids:
+        _say(progress, f"baseline: staged estimate on {len(stage_ids)} trials")
+        sub = MeasuredData(trials={i: data.trials[i] for i in stage_ids}, attrs=data.attrs, path=data.path,
+                           extra_datasets=data.extra_datasets, extra_attrs={})
+        module2 = tuple(n for n in MODULE2_FREE if n in free)
+        staged_cal = staged_calibration(sub, scaled, module2_free=module2, options=OPTIONS, max_iterations=8,
+                                        progress=False, name=f"{base.name}-staged", length_compensation=False,
+                                        pool=pool)
+        staged, stages = staged_cal.parameters, list(staged_cal.stages)
+        m2 = next(k for k, st in enumerate(stages) if st.stage == "module2")
+        if stages[m2].skipped:  # no trial at the optimum: the isometric length with the most trials stands for it
+            by_length: dict[float, list[str]] = {}
+            for i in stage_ids:
+                x = phases[i].isometric_length_mm
+                if x is not None and phases[i].n_stimuli:
+                    key = next((k for k in by_length if abs(k - x) <= LENGTH_TOL_MM), x)
+                    by_length.setdefault(key, []).append(i)
+            if by_length:
+                x_ref = max(by_length, key=lambda k: (len(by_length[k]), -abs(k - staged["g1"])))
+                r = calibrate_module2(sub, staged, by_length[x_ref], free=module2, options=OPTIONS, max_iterations=8,
+                                      pool=pool)
+                r.notes.append(f"no trial at g1 = {staged['g1']:g} mm: the isometric length with the most trials "
+                               f"({x_ref:g} mm) stands for it")
+                stages[m2] = r
+                staged = staged.with_values(**r.values)
     else:
-        params = base
-        stages = [StageResult("module2", skipped=(
-            f"no isometric twitch or train of <= {MAX_TRAIN_S} s: the seed's Module 2 stage cannot run; Module 2 "
-            "is refined jointly with P0 on the isometric tetani (one rate: its rate dependence is not identified)"))]
-        if steps:
-            stages.append(kse_from_steps([data.trials[i] for i in steps], params["P0"]))
-            params = params.with_values(**stages[-1].values)
-    kse_calibrated = any(s.stage == "KSE" and not s.skipped for s in stages)
-    p0_at_kse = params["P0"]
-    m2 = next(s for s in stages if s.stage == "module2")
-    if kind == "seed" and m2.skipped:
-        x_ref = max(by_length, key=lambda x: (len(by_length[x]), -abs(x - params["g1"])))
-        ids = [t.trial_id for t in by_length[x_ref]]
-        _say(progress, f"baseline: Module 2 at {x_ref:g} mm (no trial at g1 = {params['g1']:g} mm)")
-        r = calibrate_module2(cal, params, ids, options=options, workers=workers, max_iterations=max_iterations,
-                              pool=pool)
-        r.notes.append(f"no trial at g1: the isometric length with most trials ({x_ref:g} mm) stands for it")
-        stages[stages.index(m2)] = r
-        params = params.with_values(**r.values)
-    free = list(MODULE2_FREE)
-    if kind == "tetanic" and len(_rates_hz(list(cal.trials.values()))) <= 1:
-        free = [p for p in free if p not in TETANIC_ONE_RATE_FIXED]
-        stages[0].notes.append(f"one stimulation rate: {', '.join(TETANIC_ONE_RATE_FIXED)} (the Ca2+ sensitivity "
-                               "of the plateau) are confounded with P0 and held at their base values")
-    if kind == "tetanic" or FORCE_LENGTH_PATH not in data.extra_datasets:
-        n_len = len(by_length)
-        free = ["P0"] + (["g2"] if n_len >= 2 else []) + (["g1"] if n_len >= 3 else []) + free
-    trials = [t for ts in by_length.values() for t in ts]
-    _say(progress, f"baseline: joint refinement of {', '.join(free)} on {len(trials)} isometric trials")
-    starts = {"the staged estimate": params}
-    m2 = next(s for s in stages if s.stage == "module2")
-    if m2.fit is not None and m2.fit.flags:  # a Module 2 the stage's trials did not identify: a second start
-        starts[f"{base.name}'s Module 2"] = params.with_values(**{k: base[k] for k in MODULE2_FREE})
-    results = {how: fit(FitProblem(trials, start, free, objective="nrmse", options=options),
-                        workers=workers if pool is None else 1, pool=pool, progress=False,
-                        max_iterations=max_iterations, fd="forward") for how, start in starts.items()}
-    how, res = min(results.items(), key=lambda kv: kv[1].cost)
-    params = starts[how].with_values(**res.estimates)
-    notes = [f"from {how} (cost {', '.join(f'{r.cost:.4g} from {h}' for h, r in results.items())}): "
-             f"{res.n_iterations} iterations, {res.n_simulations} simulations: {res.message}"]
-    if kse_calibrated and params["P0"] != p0_at_kse:  # keep the stiffness the step measured, P0 x KSE (N/mm)
-        params = params.with_values(KSE=params["KSE"] * p0_at_kse / params["P0"])
-        notes.append(f"KSE rescaled by P0 {p0_at_kse:.4g} -> {params['P0']:.4g} N (P0 x KSE, the step's "
-                     f"stiffness, kept): {params['KSE']:.4g} /mm")
-    stages.append(StageResult("refinement", dict(res.estimates),
-                              {f"nrmse_{k}": v for k, v in res.nrmse_percent.items()}, [t.trial_id for t in trials],
-                              notes, fit=res))
-    final = ParameterSet(f"{base.name}-baseline", params.values,
-                         f"diagnosis baseline (eq 18, eqs 19-20 off) calibrated from {base.name} on "
-                         f"{', '.join(calibration)}")
-    _say(progress, f"baseline: simulating {len(data.trials)} trials")
-    sims = simulate_all(final, list(data.trials.values()), options, pool=pool)
-    return Baseline(final, stages, sims, {k: nrmse_percent(data.trials[k].force, s) for k, s in sims.items()},
-                    options)
+        staged, stages = scaled, [StageResult("staged", skipped="no isometric calibration trial: the scaled base "
+                                                                "set starts the joint fit alone")]
+    sims = simulate_all(staged, trials, pool=pool)
+    noise = {i: noise_level(sims[i] - np.asarray(t.force, dtype=float)) for i, t in data.trials.items()}
+    _say(progress, f"baseline: joint fit of {', '.join(free)} on {len(cal)} calibration trials, from the staged "
+                   "estimate and the scaled base set")
+    model = fit_model((), free, {"staged estimate": staged, f"scaled {base.name}": scaled}, cal, trials, noise,
+                      pool=pool, max_iterations=MODEL_MAX_ITERATIONS, intervals="hac")
+    if not model.converged:
+        notes.append(f"the joint fit did not converge: {model.message}")
+    return Baseline(model, free, held, scaled, staged, stages, noise, notes)
 
 
-def simulate_all(params: ParameterSet, trials: Sequence[Trial], options: SimulationOptions,
-                 extensions: tuple[str, ...] = (), pool: TrialPool | None = None) -> dict[str, np.ndarray]:
-    """Simulated force (N) of every trial, by trial id (on ``pool``'s workers when given)."""
-    opts = replace(options, extensions=extensions)
-    if pool is not None:
-        sims = pool.simulate([params], trials, opts)[0]
-        if sims is None:
-            raise NumericalError(f"{params.name}: a trial's simulation failed numerically")
-        return {t.trial_id: s for t, s in zip(trials, sims)}
-    return {t.trial_id: trial_simulation(params, t, opts.dt_ms, record_dt_ms=opts.record_dt_ms,
-                                         settle_ms=opts.settle_ms, length_compensation=opts.length_compensation,
-                                         movement_compensation=opts.movement_compensation,
-                                         extensions=opts.extensions) for t in trials}
+def calibration_trials(trials: Mapping[str, Trial], ids: Sequence[str]) -> list[Trial]:
+    """The trials ``ids`` of ``trials``, in that order."""
+    return [trials[i] for i in ids]

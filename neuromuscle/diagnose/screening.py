@@ -1,37 +1,26 @@
-"""Which candidates to fit: each extension's linearised gain at the reference on the calibration trials (a score
-test).
+"""Which candidates to fit: each extension's linearised gain at the current model on the calibration trials (a
+score test).
 
-A full fit of a candidate costs ~25 s of a diagnosis, so only the ``MAX_FITS`` most promising are fitted.  The
-residual-structure score of :mod:`.candidates` (excess share x eta^2 against one variable) ordered them until
-stop 21, and in suite seed 1 it left the hidden cause unfitted in three of the eleven effect cases
-(length-dependent activation, relaxation rate, post-activation potentiation): a cause's residual need not follow
-the one variable named for it, and the baseline's residual is not the reference's.
-
-Here each candidate is asked what it could do, in the model itself: at the reference (Module 2, Module 1's pump rate
-Umax and release decay tau2 refitted on every calibration trial, the point every candidate's fit starts from), every
-effect parameter (those with a neutral value) is moved by ``STEP_FRACTION`` of its range from neutral, the
-calibration trials are simulated once per move, and so are moves of what every candidate's fit refits (Module 2's
-C1, C2, C3, alpha and Module 1's tau2, by ``REFITTED_STEP`` relative).  The finite differences give a Jacobian
-J = [J_m | J_e] of the residuals, whitened as the verdict's chi-square is (each trial's residual / noise sd x
-sqrt((1 - rho)/(1 + rho))).  The linearised gain is how much further the effect's columns lower the chi-square than
-the refitted parameters' alone:
+A full fit of a candidate is the costly step of a diagnosis, so only the most promising are fitted.  Each
+candidate is asked what it could do, in the model itself: at the current model (the baseline and the causes named
+so far, fitted), every effect parameter of the candidate (those with a neutral value) is moved by
+``STEP_FRACTION`` of its range from neutral, the calibration trials are simulated once per move, and so are moves
+of everything the candidate's fit refits (the model's free parameters, by ``REFITTED_STEP`` relative).  The finite
+differences give a Jacobian J = [J_m | J_e] of the residuals, whitened as the rules' chi-square is.  The
+linearised gain is how much further the effect's columns lower the chi-square than the refitted parameters'
+alone:
 
     gain = min_dm |r + J_m dm|^2 - min_(dm, de) |r + J_m dm + J_e de|^2,   de within [lower, upper] - neutral
 
 (scipy's bounded linear least squares).  It is Rao's score statistic with the effect's bounds kept, the locally
-most powerful test of "effect = neutral", and it is what the candidate's fit will start to gain.  Candidates are
-ordered by gain minus the verdict's BIC penalty p ln N_eff.
+most powerful test of "effect = neutral", and what the candidate's fit will start to gain.  Candidates are ordered
+by gain minus the BIC penalty p ln N_eff.
 
-A gain can need a time constant (a parameter with ``neutral`` None) far from its default: suite seed 3's doublet
-potentiation gains 13 at its defaults (tau_f 8, tau_h 25 ms), where it was not fitted, and 2677 at 3.8 and 300 ms,
-where its fit ended when it was forced.  So each candidate is screened at its defaults and at every combination of
-its time constants at ``GRID_QUANTILES`` of their ranges (:func:`time_constant_settings`), and its best gain
-counts.  The fits still start from the defaults (they found 3.8 and 300 ms from there).  The best of several
-settings is a maximum over correlated score tests, so a null's screen rises a little; the screen only chooses what
-to fit, and the held-out rules of :mod:`.verdict` decide (suite: the five nulls stay "none").  Cost: 6 + the sum
-over candidates of settings x effect parameters simulations of the calibration trials (80 since stop 41, 17 of
-them the movement extension's), in one call to the worker pool; the moved runs and one reference run at
-``COLUMN_DT_MS``.
+A gain can need a time constant (a parameter with no neutral value) far from its default, so each candidate is
+screened at its defaults and at every combination of its time constants at ``GRID_QUANTILES`` of their ranges
+(:func:`time_constant_settings`), and its best gain counts.  The screen only chooses what to fit; the rules judge.
+The moved runs and one run of the current model are simulated at ``COLUMN_DT_MS``, whose integration error cancels
+in the differences; all of them go to the worker pool in one call.
 """
 
 from __future__ import annotations
@@ -49,8 +38,7 @@ from ..fit.evaluate import TrialPool, simulate_batched
 from ..measured import Trial
 from ..model.extensions import registry
 from ..parameters import SPECS, ParameterSet
-from .baseline import simulate_all
-from .extension_fit import REFITTED
+from .models import simulate_all
 from .residuals import Noise
 
 #: The move of an effect parameter from neutral, as a fraction of its range (a secant: effects are not linear).
@@ -61,7 +49,7 @@ STEP_FRACTION = 0.1
 COLUMN_DT_MS = 0.2
 #: Quantiles of a time constant's range (log-spaced for a positive range) tried beside its default.
 GRID_QUANTILES = (0.25, 0.75)
-#: The relative move of what every candidate refits (extension_fit.REFITTED: Module 2's C1, C2, C3, alpha, tau2).
+#: The relative move of what every candidate refits (the current model's free parameters).
 REFITTED_STEP = 0.02
 
 
@@ -76,6 +64,7 @@ class Screen:
     penalty: float
     moves: dict[str, float]
     time_constants: dict[str, float] = field(default_factory=dict)
+    at: str = "model"
 
     @property
     def score(self) -> float:
@@ -83,7 +72,7 @@ class Screen:
 
     def to_json(self) -> dict:
         return {"linearised_chi2_gain": self.gain, "bic_penalty": self.penalty, "score": self.score,
-                "moves": self.moves, "time_constants": self.time_constants}
+                "moves": self.moves, "time_constants": self.time_constants, "at": self.at}
 
 
 def _whitened(sims: Mapping[str, np.ndarray], measured: Mapping[str, np.ndarray], noise: Mapping[str, Noise],
@@ -102,12 +91,12 @@ def simulate_runs(runs: Sequence[tuple[ParameterSet, tuple[str, ...]]], trials: 
         out = pool.simulate(params, trials, opts) if pool is not None else simulate_batched(params, trials, opts)
         if not any(s is None for s in out):
             return [{t.trial_id: f for t, f in zip(trials, s)} for s in out]
-    return [simulate_all(p, trials, options, e) for p, e in runs]  # one by one: names a failing run
+    return [simulate_all(p, trials, e, options) for p, e in runs]  # one by one: names a failing run
 
 
 def _step_within(name: str, value: float) -> float:
     """The move of refitted parameter ``name`` from ``value``: REFITTED_STEP relative, downwards where upwards
-    would leave the parameter's range (a fit can end on its bound: suite seed 1's fatigue case had alpha at 8)."""
+    would leave the parameter's range (a fit can end on its bound)."""
     h = abs(value) * REFITTED_STEP if value != 0 else REFITTED_STEP
     return -h if value + h > SPECS[name].upper else h
 
@@ -149,16 +138,24 @@ def time_constant_settings(ext) -> list[dict[str, float]]:
 def screen_settings(names: Sequence[str], reference: ParameterSet, reference_sims: Mapping[str, np.ndarray],
                     calibration: Sequence[Trial], measured: Mapping[str, np.ndarray], noise: Mapping[str, Noise],
                     options: SimulationOptions, pool: TrialPool | None = None,
-                    column_dt_ms: float | None = COLUMN_DT_MS) -> list[Screen]:
-    """A :class:`Screen` of each extension in ``names`` at each of its :func:`time_constant_settings`, at
-    ``reference`` (module docstring); forces in N.  The Jacobian's columns difference simulations at fixed step
-    ``column_dt_ms`` (ms; None: ``options``' step, no extra reference simulation) against the reference simulated
-    at the same step; the residual it linearises is ``reference_sims``."""
+                    column_dt_ms: float | None = COLUMN_DT_MS, refitted: Sequence[str] = (),
+                    extensions: tuple[str, ...] = (),
+                    subsets: Mapping[str, Sequence[str]] | None = None, model_chi2: float | None = None,
+                    at: str = "model") -> list[Screen]:
+    """A :class:`Screen` of each extension in ``names`` at each of its :func:`time_constant_settings`, at the model
+    ``reference`` with ``extensions`` (module docstring), its parameters ``refitted`` refitted; forces in N.  The
+    Jacobian's columns difference simulations at fixed step ``column_dt_ms`` (ms; None: ``options``' step, no
+    extra simulation of the model) against the model simulated at the same step; the residual it linearises is
+    ``reference_sims``.  subsets: for a candidate, the part of ``refitted`` its fit refits (default: all).
+    model_chi2: when ``reference`` is not the fitted model but another start (``at`` names it), the model's
+    calibration chi-square that the gain is measured from (default: the best of ``reference`` with the refitted
+    parameters alone)."""
     ids = [t.trial_id for t in calibration]
     r = _whitened(reference_sims, measured, noise, ids)
     n_eff = max(sum(noise[i].n_eff for i in ids), 2.0)
+    exts = tuple(extensions)
 
-    refit = [(n, _step_within(n, reference[n])) for n in REFITTED]
+    refit = [(n, _step_within(n, reference[n])) for n in refitted]
     known = registry()
     plans = []  # per candidate and setting: the time constants, the point the effect is moved from, the moves
     for name in names:
@@ -167,13 +164,13 @@ def screen_settings(names: Sequence[str], reference: ParameterSet, reference_sim
                     for p in ext.parameters}
         moves = effect_moves(ext)
         plans += [(name, setting, {**defaults, **setting}, moves) for setting in time_constant_settings(ext)]
-    runs = [(reference.with_values({n: reference[n] + h}), ()) for n, h in refit]
-    runs += [(reference.with_values({**at, q: at[q] + h}), (name,)) for name, _, at, moves in plans
+    runs = [(reference.with_values({n: reference[n] + h}), exts) for n, h in refit]
+    runs += [(reference.with_values({**at, q: at[q] + h}), exts + (name,)) for name, _, at, moves in plans
              for q, h, _ in moves]
     r0 = r
     if column_dt_ms is not None:
         options = replace(options, dt_ms=column_dt_ms, record_dt_ms=None)
-        runs = [(reference, ())] + runs
+        runs = [(reference, exts)] + runs
     sims = iter(simulate_runs(runs, calibration, options, pool))
     if column_dt_ms is not None:
         r0 = _whitened(next(sims), measured, noise, ids)
@@ -181,28 +178,39 @@ def screen_settings(names: Sequence[str], reference: ParameterSet, reference_sim
     def column(h: float) -> np.ndarray:
         return (_whitened(next(sims), measured, noise, ids) - r0) / h
 
-    Jm = np.column_stack([column(h) for _, h in refit])
-    unbounded = np.full(Jm.shape[1], np.inf)
-    base, _ = _min_sq(r, Jm, -unbounded, unbounded)
+    Jall = np.column_stack([column(h) for _, h in refit]) if refit else np.zeros((r.size, 0))
+    names_refit = [n for n, _ in refit]
+    bases: dict[tuple[int, ...], float] = {}
     out = []
     for name, setting, _, moves in plans:
+        keep = tuple(k for k, n in enumerate(names_refit) if subsets is None or n in subsets.get(name, names_refit))
+        Jm = Jall[:, list(keep)]
+        unbounded = np.full(Jm.shape[1], np.inf)
+        if keep not in bases:
+            bases[keep] = _min_sq(r, Jm, -unbounded, unbounded)[0] if model_chi2 is None else model_chi2
         Je = np.column_stack([column(h) for _, h, _ in moves]) if moves else np.zeros((r.size, 0))
         J = np.hstack([Jm, Je])
         lower = np.concatenate([-unbounded, [p.lower - p.neutral for _, _, p in moves]])
         upper = np.concatenate([unbounded, [p.upper - p.neutral for _, _, p in moves]])
         best, d = _min_sq(r, J, lower, upper)
-        out.append(Screen(name, max(base - best, 0.0), len(moves) * math.log(n_eff),
-                          {q: float(p.neutral + x) for (q, _, p), x in zip(moves, d[Jm.shape[1]:])}, dict(setting)))
+        out.append(Screen(name, max(bases[keep] - best, 0.0), len(moves) * math.log(n_eff),
+                          {q: float(p.neutral + x) for (q, _, p), x in zip(moves, d[Jm.shape[1]:])}, dict(setting),
+                          at))
     return out
 
 
 def screen(names: Sequence[str], reference: ParameterSet, reference_sims: Mapping[str, np.ndarray],
            calibration: Sequence[Trial], measured: Mapping[str, np.ndarray], noise: Mapping[str, Noise],
-           options: SimulationOptions, pool: TrialPool | None = None) -> dict[str, Screen]:
-    """The best :class:`Screen` of each extension in ``names`` over its time-constant settings (module docstring);
-    forces in N.  A tie keeps the defaults."""
+           options: SimulationOptions, pool: TrialPool | None = None, refitted: Sequence[str] = (),
+           extensions: tuple[str, ...] = (), subsets: Mapping[str, Sequence[str]] | None = None,
+           model_chi2: float | None = None, at: str = "model") -> dict[str, Screen]:
+    """The best :class:`Screen` of each extension in ``names`` over its time-constant settings, at the model
+    ``reference`` with ``extensions`` whose parameters ``refitted`` each candidate's fit refits (module
+    docstring); forces in N.  A tie keeps the defaults."""
     out: dict[str, Screen] = {}
-    for s in screen_settings(names, reference, reference_sims, calibration, measured, noise, options, pool):
+    for s in screen_settings(names, reference, reference_sims, calibration, measured, noise, options, pool,
+                             refitted=refitted, extensions=extensions, subsets=subsets, model_chi2=model_chi2,
+                             at=at):
         if s.name not in out or s.gain > out[s.name].gain:
             out[s.name] = s
     return out

@@ -1,14 +1,11 @@
-"""Which trials calibrate the model and which are held out to judge the candidate extensions.
+"""Which trials calibrate the model and which are held out to judge the candidate causes.
 
 Automatic split (``automatic_split``): trials are grouped by protocol (the file's ``protocol`` attribute) and, within
 a protocol, ordered by length, stimulus count, shortest inter-stimulus interval and id; alternate trials of each
 group go to calibration and to the held-out set (first, third, ... calibrate), so every protocol with two trials or
-more, and so every candidate's telling trial kind, appears on both sides.  A protocol with a single trial
-calibrates.  With three trials or more, the held-out ones lie between calibration ones, so the candidates are
-judged on interpolation: until stop 21 the order ended with the id, and doublets at 5, 10 and 15 ms (ids sorted as
-text: 10, 15, 5) calibrated at 10 and 5 ms and were judged at 15 ms, where suite seed 1's doublet extension,
-extrapolated, lost to the reference.  ``given_split`` takes the
-held-out ids of ``--split``.
+more appears on both sides, and with three or more the held-out ones lie between calibration ones (a candidate is
+judged where it interpolates).  A protocol with a single trial calibrates: its cause is then judged on the held-out
+trials where its fitted extension acts (:mod:`.selection`).  ``given_split`` takes the held-out ids of ``--split``.
 """
 
 from __future__ import annotations

@@ -1,66 +1,94 @@
-"""``neuromuscle bench diagnose --suite``: the draws and the scoring (the diagnoses themselves are measured by the
-command, about 5 min each, and by tests/diagnose)."""
+"""``neuromuscle bench diagnose --suite``: the draws per world, the two-effect files and the scoring from each case's
+``named`` list (the diagnoses themselves are measured by the command and by tests/diagnose)."""
 
 import pytest
 
-from neuromuscle.bench.diagnose_suite import score, suite_cases, table_lines
+from neuromuscle.bench.diagnose_suite import SuiteCase, judge_case, score, suite_cases, table_lines
 from neuromuscle.cli import main
-from neuromuscle.errors import InputError
 from neuromuscle.synth import CAUSES, OUTSIDE
 
 
-def test_cases_cover_every_cause_the_outside_effect_and_none_reproducibly():
-    cases = suite_cases(2)
-    names = [c.cause for c in cases]
-    assert sorted(set(names)) == sorted([*CAUSES, *OUTSIDE, "none"])
-    assert all(names.count(n) == 2 for n in set(names))
-    assert cases == suite_cases(2) and cases != suite_cases(2, seed=1)
+def test_cases_cover_every_cause_the_outside_effect_and_none_in_every_world_reproducibly():
+    cases = suite_cases(2, worlds=("B", "A-reduced"))
+    for w in ("B", "A-reduced"):
+        names = [c.label for c in cases if c.world == w]
+        assert sorted(set(names)) == sorted([*CAUSES, *OUTSIDE, "none"])
+        assert all(names.count(n) == 2 for n in set(names))
+    assert cases == suite_cases(2, worlds=("B", "A-reduced"))
+    assert cases != suite_cases(2, seed=1, worlds=("B", "A-reduced"))
     for c in cases:
-        assert (c.strength == 0.0) == (c.cause == "none") and (c.cause == "none" or 0.25 <= c.strength <= 1.0)
-        assert 1.0 <= c.noise_pct <= 2.0
-        assert c.expected == ("unexplained" if c.cause in OUTSIDE else c.cause)
+        assert (c.effects == ()) == (c.label == "none")
+        assert all(0.25 <= s <= 1.0 for _, s in c.effects) and 1.0 <= c.noise_pct <= 2.0
+    a_null = next(c for c in cases if c.world == "A-reduced" and c.label == "none")
+    assert a_null.expected()["required"] == ["length_dependent_activation"]  # eq 18 in the data
 
 
-def test_a_subset_has_the_draws_of_the_whole_suite():
-    whole = suite_cases(3, seed=1)
-    sub = suite_cases(3, ["relaxation_rate", "none"], seed=1)
-    assert sub == [c for c in whole if c.cause in ("relaxation_rate", "none")]
-    assert suite_cases(1, seed=1) == whole[:len(whole) // 3]  # the first seed of three is a suite of one
+def test_a_world_and_a_subset_keep_their_draws():
+    whole = suite_cases(3, seed=1, worlds=("B", "A"))
+    assert suite_cases(3, seed=1, worlds=("A",)) == [c for c in whole if c.world == "A"]
+    sub = suite_cases(3, ["relaxation_rate", "none"], seed=1, worlds=("B",))
+    assert sub == [c for c in whole if c.world == "B" and c.label in ("relaxation_rate", "none")]
 
 
-def _row(cause, expected, verdict, gain_ok):
-    return {"cause": cause, "expected": expected, "verdict": verdict, "gain_ok": gain_ok}
+def test_two_effect_files_carry_two_different_causes():
+    pairs = [c for c in suite_cases(0, seed=3, worlds=("B",), two_effect=6)]
+    assert len(pairs) == 6 and all(len(c.effects) == 2 and c.effects[0][0] != c.effects[1][0] for c in pairs)
+    assert all(n in CAUSES for c in pairs for n, _ in c.effects)
 
 
-def test_score_counts_hits_false_alarms_and_wrong_names():
-    rows = [_row("staircase", "staircase", "staircase", True),
-            _row("staircase", "staircase", "staircase", False),      # named, but no held-out gain: no hit
-            _row("fatigue", "fatigue", "staircase", True),           # wrong name
-            _row("fatigue", "fatigue", "none", False),
-            _row("transducer_drift", "unexplained", "unexplained", False),
-            _row("none", "none", "none", False),
-            _row("none", "none", "fatigue", True)]                   # false alarm
+def _case(world, *names):
+    return SuiteCase(world, tuple((n, 0.5) for n in names), 1.5, 1)
+
+
+def test_judging_a_case_from_what_it_named():
+    s = judge_case(_case("B", "staircase"), ["staircase"], ["staircase"])
+    assert s["hits"] == {"staircase": True} and not s["wrong_names"]
+    s = judge_case(_case("B", "fatigue"), ["staircase"], ["staircase"])
+    assert s["hits"] == {"fatigue": False} and s["wrong_names"] == ["staircase"]
+    s = judge_case(_case("A"), ["length_dependent_activation"], ["length_dependent_activation"])
+    assert not s["false_alarm"] and s["background_named"] == {"length_dependent_activation": True}
+    s = judge_case(_case("A"), ["length_dependent_activation", "fatigue"], ["length_dependent_activation", "fatigue"])
+    assert s["false_alarm"] and s["wrong_names"] == ["fatigue"]
+    s = judge_case(_case("B"), ["unexplained"], [])
+    assert s["false_alarm"]
+    s = judge_case(_case("B", "transducer_drift"), ["unexplained"], [])
+    assert s["unexplained_hit"] and not s["wrong_names"]
+    s = judge_case(_case("B", "staircase", "fatigue"), ["fatigue", "staircase"], ["fatigue", "staircase"])
+    assert s["both_named"] is True
+    s = judge_case(_case("A-movement", "staircase"), ["staircase", "movement_induced_depression"], ["staircase"])
+    assert not s["wrong_names"]  # the data's own eqs 19-20 may be named
+
+
+def test_score_counts_hits_false_alarms_wrong_names_and_pairs():
+    def row(world, names, named, passed=None, error=None):
+        c = _case(world, *names)
+        r = {"world": world, "effects": [list(e) for e in c.effects], "named": named}
+        if error:
+            return {**r, "error": error}
+        return {**r, "score": judge_case(c, named, named if passed is None else passed)}
+
+    rows = [row("B", ["staircase"], ["staircase"]), row("B", ["staircase"], ["staircase"], passed=[]),
+            row("B", ["fatigue"], ["staircase"]), row("B", [], []), row("B", [], ["fatigue"]),
+            row("A", [], ["length_dependent_activation"]), row("B", ["staircase", "fatigue"], ["fatigue"]),
+            row("B", ["fatigue"], [], error="boom")]
     s = score(rows)
-    assert s["per_cause"]["staircase"]["hits"] == 1 and s["per_cause"]["fatigue"]["wrong_name"] == 1
-    assert s["hit_rate_pct"] == pytest.approx(100 * 2 / 5, abs=0.1)
-    assert s["false_alarm_rate_pct"] == 50.0 and s["wrong_name_rate_pct"] == 20.0
-    assert "false alarms on nulls 50.0 %" in table_lines(s)[-1]
-    s = score(rows + [_row("staircase", "staircase", "error", False)])  # a case whose diagnosis raised
-    assert s["errors"] == 1 and s["per_cause"]["staircase"]["wrong_name"] == 0
-    assert s["hit_rate_pct"] == pytest.approx(100 * 2 / 6, abs=0.1)
+    assert s["per_world"]["B"]["staircase"] == {"n": 3, "hits": 1, "hit_rate_pct": 33.3}
+    assert s["false_alarms"] == 1 and s["nulls"] == 3 and s["files_with_a_wrong_name"] == 1
+    assert s["two_effect_files"] == 1 and s["both_named"] == 0 and s["errors"] == 1
+    assert s["per_world"]["A"]["length_dependent_activation (background)"]["hits"] == 1
+    assert "false alarms 1 of 3 nulls" in table_lines(s)[-1]
 
 
-@pytest.mark.parametrize("argv, message", [(["--suite", "0"], "seeds"), (["--suite", "1", "--causes", "gout"],
-                                                                        "unknown cause"),
+@pytest.mark.parametrize("argv, message", [(["--suite", "-1"], "seeds"),
+                                           (["--suite", "1", "--causes", "gout"], "unknown cause"),
+                                           (["--suite", "1", "--worlds", "Z"], "unknown world"),
                                            (["--causes", "fatigue"], "need --suite"),
                                            (["--journal", "j.jsonl"], "need --suite"),
                                            (["--first", "2"], "need --suite"),
+                                           (["--two-effect", "2"], "need --suite"),
                                            (["--separability"], "need --suite"),
-                                           (["--suite", "1", "--separability", "--first", "12"],
-                                            "nulls are skipped"),
                                            (["--suite", "1", "--first", "13"], "between 1 and 12"),
-                                           (["--protocols", "long"], "unknown protocol set"),
-                                           (["--suite", "1", "--protocols", "long"], "unknown protocol set")])
+                                           (["--world", "Z"], "unknown world")])
 def test_bad_suite_arguments_are_refused_before_any_work(argv, message, capsys):
     assert main(["bench", "diagnose", *argv]) != 0
     assert message in capsys.readouterr().err

@@ -63,7 +63,8 @@ def null_files(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def fatigue_files(tmp_path_factory):
-    """A preparation with the hidden fatigue-like effect (count-based release weights, strength 0.7: ~5 % NRMSE on long trains), and its diagnosis."""
+    """A preparation with the hidden fatigue-like effect (count-based release weights, strength 0.7: ~5 % NRMSE on
+    long trains), and its diagnosis."""
     return _diagnosed(tmp_path_factory, "fatigue", lambda: make_data(3, fatigue=0.7))
 
 

@@ -67,7 +67,7 @@ def protocols(g1: float, standard: bool) -> list[tuple[str, str, float, np.ndarr
 
 def weighted_force(params, trial: Trial, strength: float) -> np.ndarray:
     """The trial's force (N) when the n-th stimulus releases with weight 1 - strength (1 - exp(-(n - 1) / 40))."""
-    from neuromuscle.model import MuscleUnit, kim_excitation
+    from neuromuscle import MuscleUnit, kim_excitation
     from neuromuscle.sim import Simulator
     from neuron import h
 

@@ -1,0 +1,221 @@
+"""The numbers behind a candidate's judgement: how much the model with the candidate's extension predicts the
+held-out trials better than the model before it, in the units of the trials' noise.
+
+For held-out trial k: SSE0_k, SSE1_k the squared errors (N^2) of the model before and of the candidate's model,
+s_k and rho_k its AR(1) noise (:func:`.residuals.noise_level`), n_k samples, n_eff,k = n_k (1 - rho_k)/(1 + rho_k).
+
+* **held-out gain** in noise variances: sum_k (SSE0_k - SSE1_k)/s_k^2, and its chi-square form corrected for the
+  autocorrelation: dX2 = sum_k (SSE0_k - SSE1_k)/s_k^2 (1 - rho_k)/(1 + rho_k);
+* **BIC penalty** p ln(N_eff) (p: the candidate's parameters, N_eff = sum_k n_eff,k);
+* **block bootstrap**: the 5th percentile of the held-out gain over ``N_BOOTSTRAP`` moving-block resamples of the
+  per-sample gains (e0^2 - e1^2)/s_k^2 within each trial (blocks of max(4 (1 + rho)/(1 - rho), n/25) samples);
+* **excess**: the held-out error above noise, sum_k max(SSE0_k - n_k s_k^2, 0)/s_k^2, and the share of it the
+  candidate removes;
+* the same gain, penalty and bootstrap over the **window** where the cause is defined (:mod:`.causes`), each model's
+  residual there measured from its own level (the isometric misfit at a hold's length, 0 elsewhere);
+* the **calibration** chi-square gain of the candidate's fit over the model before it and its BIC penalty (both
+  fitted on that chi-square, so this is a likelihood ratio).
+
+:mod:`.rules` turns these numbers into a decision.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Mapping, NamedTuple, Sequence
+
+import numpy as np
+
+from ..analysis.metrics import nrmse_percent
+from .residuals import Noise
+
+N_BOOTSTRAP = 2000
+#: A held-out trial is structured when its residual RMS exceeds this many noise sd.
+STRUCTURE_RATIO = 1.5
+
+
+class WindowSamples(NamedTuple):
+    """One held-out trial's samples where the cause is judged (``mask``), how they were chosen (``how``: "defined"
+    on the cause's telling window, "acts" where the fitted extension changes the force), the trials a hold is
+    measured from, and the model before's and the candidate's residual level there (N: a number, or one per
+    sample of the mask)."""
+
+    mask: np.ndarray
+    how: str
+    references: tuple[str, ...] = ()
+    level_before_N: float | np.ndarray = 0.0
+    level_after_N: float | np.ndarray = 0.0
+
+
+@dataclass
+class Evidence:
+    """The numbers of one candidate against the model before it (module docstring), and the rules it failed
+    (rule id -> message, filled by :func:`.rules.apply_rules`)."""
+
+    n_parameters: int
+    gain: float
+    chi2_gain: float
+    bic_penalty: float
+    bootstrap_p05: float
+    excess: float
+    nrmse_before: float
+    nrmse_after: float
+    structured_before: list[str]
+    identified: list[str]
+    calibration_chi2_gain: float
+    calibration_penalty: float
+    window_how: str | None = None
+    window_chi2_gain: float | None = None
+    window_penalty: float | None = None
+    window_p05: float | None = None
+    window_trials: dict[str, dict[str, Any]] = field(default_factory=dict)
+    rest_left: list[str] = field(default_factory=list)
+    n_rest: int = 0
+    baseline_excess: float | None = None
+    after_others: bool = False
+    failed: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def excess_removed(self) -> float:
+        """The share of the held-out error above noise the candidate removes."""
+        return self.gain / self.excess if self.excess > 0 else 0.0
+
+    @property
+    def share_of_baseline_excess(self) -> float | None:
+        """The held-out gain as a share of the baseline's held-out error above noise (None when not known)."""
+        return self.gain / self.baseline_excess if self.baseline_excess else None
+
+    @property
+    def passed(self) -> bool:
+        return not self.failed
+
+    @property
+    def score(self) -> float:
+        """How well the candidate's model fits the whole file against the model before it, beyond its
+        parameters: held-out dX2 less its BIC penalty plus the calibration chi-square gain less its BIC penalty
+        (noise variances).  Ranks the candidates that pass every rule."""
+        return self.chi2_gain - self.bic_penalty + self.calibration_chi2_gain - self.calibration_penalty
+
+    def text(self) -> str:
+        """One line: the held-out error, gains against penalties, bootstrap, excess removed, failures."""
+        parts = [f"held-out mean NRMSE {self.nrmse_before:.2f} -> {self.nrmse_after:.2f} %",
+                 f"held-out chi2 gain {self.chi2_gain:.1f} vs BIC penalty {self.bic_penalty:.1f}",
+                 f"bootstrap 5th percentile {self.bootstrap_p05:.4g}",
+                 f"removes {100 * self.excess_removed:.0f} % of the held-out error above noise",
+                 f"calibration chi2 gain {self.calibration_chi2_gain:.1f} vs {self.calibration_penalty:.1f}"]
+        if self.window_chi2_gain is not None:
+            parts.append(f"where the cause is {'defined' if self.window_how == 'defined' else 'acting'} "
+                         f"({len(self.window_trials)} held-out trials) chi2 gain {self.window_chi2_gain:.1f} vs "
+                         f"{self.window_penalty:.1f}, bootstrap 5th percentile {self.window_p05:.4g}")
+        parts.append("passes every rule" if self.passed else
+                     "FAILS " + "; ".join(f"{k}: {v}" for k, v in self.failed.items()))
+        return "; ".join(parts)
+
+    def to_json(self) -> dict[str, Any]:
+        return {"n_parameters": self.n_parameters, "gain_noise_variances": self.gain, "chi2_gain": self.chi2_gain,
+                "bic_penalty": self.bic_penalty, "bootstrap_p05": self.bootstrap_p05, "excess": self.excess,
+                "excess_removed": self.excess_removed, "nrmse_heldout_before": self.nrmse_before,
+                "nrmse_heldout_after": self.nrmse_after, "structured_before": self.structured_before,
+                "identified": self.identified, "calibration_chi2_gain": self.calibration_chi2_gain,
+                "calibration_bic_penalty": self.calibration_penalty, "window": self.window_how,
+                "window_chi2_gain": self.window_chi2_gain, "window_bic_penalty": self.window_penalty,
+                "window_bootstrap_p05": self.window_p05, "window_trials": self.window_trials,
+                "rest_trend_trials": self.rest_left, "trials_with_rest": self.n_rest, "score": self.score,
+                "baseline_excess": self.baseline_excess, "share_of_baseline_excess": self.share_of_baseline_excess,
+                "passed": self.passed, "failed": self.failed}
+
+
+def block_bootstrap_p05(gains: Sequence[np.ndarray], noise: Sequence[Noise], rng: np.random.Generator,
+                        n_boot: int = N_BOOTSTRAP) -> float:
+    """5th percentile of the summed per-sample gains under a moving-block bootstrap within each series."""
+    total = np.zeros(n_boot)
+    for d, nz in zip(gains, noise):
+        n = d.size
+        if n == 0:
+            continue
+        block = int(min(n, max(math.ceil(4.0 * (1 + nz.rho) / (1 - nz.rho)), math.ceil(n / 25.0))))
+        n_blocks = math.ceil(n / block)
+        sums = np.convolve(d, np.ones(block), mode="valid")
+        starts = rng.integers(0, sums.size, size=(n_boot, n_blocks))
+        total += sums[starts].sum(axis=1) * (n / (n_blocks * block))
+    return float(np.quantile(total, 0.05))
+
+
+def excess(heldout: Sequence[str], measured: Mapping[str, np.ndarray], simulated: Mapping[str, np.ndarray],
+           noise: Mapping[str, Noise]) -> float:
+    """The held-out error above noise of a model's forces (N), in noise variances: sum_k max(SSE_k - n_k s_k^2, 0)
+    / s_k^2."""
+    out = 0.0
+    for i in heldout:
+        e = simulated[i] - measured[i]
+        out += max(float(e @ e) / noise[i].sd_N ** 2 - e.size, 0.0)
+    return out
+
+
+def structured_trials(measured: Mapping[str, np.ndarray], simulated: Mapping[str, np.ndarray],
+                      noise: Mapping[str, Noise], ids: Sequence[str], ratio: float = STRUCTURE_RATIO) -> list[str]:
+    """The trials among ``ids`` whose residual RMS exceeds ``ratio`` times their noise sd."""
+    out = []
+    for i in ids:
+        e = simulated[i] - measured[i]
+        if math.sqrt(float(e @ e) / e.size) > ratio * noise[i].sd_N:
+            out.append(i)
+    return out
+
+
+def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: Mapping[str, np.ndarray],
+           after: Mapping[str, np.ndarray], noise: Mapping[str, Noise], n_parameters: int, identified: list[str],
+           calibration: tuple[float, float], window: Mapping[str, WindowSamples] | None, seed: int = 0) -> Evidence:
+    """The evidence of a candidate whose model gives ``after`` against the model before it (``before``), forces in
+    N by trial id, on the ``heldout`` trials; calibration: (chi-square gain, BIC penalty) of its fit; window: the
+    held-out samples where the cause is judged (None: no such samples)."""
+    gain = chi2 = excess = n_eff = 0.0
+    per_sample, nr0, nr1 = [], [], []
+    for i in heldout:
+        e0, e1 = before[i] - measured[i], after[i] - measured[i]
+        nz = noise[i]
+        v = nz.sd_N ** 2
+        s0, s1 = float(e0 @ e0) / v, float(e1 @ e1) / v
+        gain += s0 - s1
+        chi2 += (s0 - s1) * (1 - nz.rho) / (1 + nz.rho)
+        excess += max(s0 - e0.size, 0.0)
+        n_eff += nz.n_eff
+        per_sample.append((e0 ** 2 - e1 ** 2) / v)
+        nr0.append(nrmse_percent(measured[i], before[i]))
+        nr1.append(nrmse_percent(measured[i], after[i]))
+    penalty = n_parameters * math.log(max(n_eff, 2.0))
+    p05 = block_bootstrap_p05(per_sample, [noise[i] for i in heldout], np.random.default_rng(seed))
+    ev = Evidence(n_parameters, gain, chi2, penalty, p05, excess, float(np.mean(nr0)), float(np.mean(nr1)),
+                  structured_trials(measured, before, noise, heldout), identified, *calibration)
+    if window:
+        _window(ev, window, measured, before, after, noise, seed)
+    return ev
+
+
+def _window(ev: Evidence, window: Mapping[str, WindowSamples], measured: Mapping[str, np.ndarray],
+            before: Mapping[str, np.ndarray], after: Mapping[str, np.ndarray], noise: Mapping[str, Noise],
+            seed: int) -> None:
+    w_gain, w_neff, samples, noises = 0.0, 0.0, [], []
+    for i, h in window.items():
+        if not np.any(h.mask):
+            continue
+        nz = noise[i]
+        e0 = (before[i] - measured[i])[h.mask] - h.level_before_N
+        e1 = (after[i] - measured[i])[h.mask] - h.level_after_N
+        d = (e0 ** 2 - e1 ** 2) / nz.sd_N ** 2
+        n = int(h.mask.sum())
+        g = float(d.sum()) * (1 - nz.rho) / (1 + nz.rho)
+        w_gain += g
+        w_neff += n * (1 - nz.rho) / (1 + nz.rho)
+        samples.append(d)
+        noises.append(nz)
+        ev.window_trials[i] = {"samples": n, "chi2_gain": g, "how": h.how, "isometric_references": list(h.references),
+                               "level_before_N": float(np.mean(h.level_before_N)),
+                               "level_after_N": float(np.mean(h.level_after_N))}
+    if not samples:
+        return
+    ev.window_how = "defined" if all(w["how"] == "defined" for w in ev.window_trials.values()) else "acts"
+    ev.window_chi2_gain = w_gain
+    ev.window_penalty = ev.n_parameters * math.log(max(w_neff, 2.0))
+    ev.window_p05 = block_bootstrap_p05(samples, noises, np.random.default_rng(seed + 1))

@@ -1,0 +1,163 @@
+"""The decision rules of the diagnosis, as a table: a candidate cause is named only when it passes every rule.
+
+Each :class:`Rule` has an id, a short name, its threshold and a statement; its check reads the candidate's
+:class:`~.evidence.Evidence` and returns why it fails, or None.  :func:`apply_rules` runs them all and records the
+failures by rule id; reports list the rules from ``RULES`` itself, so what a report says is what the code does.
+
+Why these rules.  A held-out gain beyond noise alone does not name a cause: a preparation differs from any model
+in ways the calibration trials cannot pin down, and a flexible extension takes up some of that misfit on the
+held-out trials too.  The rules ask, beyond the gain, that there be something to explain, that the extension's
+effect be identified, that the gain be robust and material, and that it show where the cause acts, with nothing
+left where no cause of the catalogue acts (the muscle at rest).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+from .evidence import STRUCTURE_RATIO, Evidence
+
+#: R0: a candidate that removes more than this share of the held-out excess passes R0 with no structured trial.
+MIN_EXCESS_REMOVED_DIFFUSE = 0.5
+#: R4: the least share of the held-out error above noise a named cause removes.
+MIN_EXCESS_REMOVED = 0.25
+#: R8: a cause named after others removes at least this share of the baseline's held-out error above noise.
+MIN_BASELINE_SHARE = 0.10
+#: R6: a model leaves structure at rest when at least max(REST_MIN_TRIALS, REST_MIN_FRACTION x trials with a
+#: rest window) trials trend at rest with |z| > REST_Z.
+REST_Z = 3.0
+REST_MIN_TRIALS = 3
+REST_MIN_FRACTION = 0.2
+
+
+def enough_trials(n: int, of: int) -> bool:
+    """At least max(REST_MIN_TRIALS, REST_MIN_FRACTION x ``of``) trials: enough to call a structure real."""
+    return of > 0 and n >= max(REST_MIN_TRIALS, math.ceil(REST_MIN_FRACTION * of))
+
+
+@dataclass(frozen=True)
+class Rule:
+    """One rule: ``id`` (R0...), ``name``, ``statement`` (what must hold) and ``check`` (evidence -> why it
+    fails, or None)."""
+
+    id: str
+    name: str
+    statement: str
+    check: Callable[[Evidence], str | None]
+
+    def to_json(self) -> dict[str, str]:
+        return {"id": self.id, "name": self.name, "statement": self.statement}
+
+
+def _something_to_explain(e: Evidence) -> str | None:
+    if e.structured_before or e.excess_removed > MIN_EXCESS_REMOVED_DIFFUSE:
+        return None
+    return (f"no held-out trial has a residual RMS above {STRUCTURE_RATIO:g} noise sd under the model before it, "
+            f"and it removes {100 * e.excess_removed:.0f} % <= {100 * MIN_EXCESS_REMOVED_DIFFUSE:.0f} % of the "
+            "held-out error above noise")
+
+
+def _identified(e: Evidence) -> str | None:
+    if e.identified or e.calibration_chi2_gain > e.calibration_penalty:
+        return None
+    return (f"no effect parameter's 95 % interval excludes its neutral value, and the calibration chi2 gain "
+            f"{e.calibration_chi2_gain:.1f} <= BIC penalty {e.calibration_penalty:.1f}")
+
+
+def _beyond_noise(e: Evidence) -> str | None:
+    return None if e.chi2_gain > e.bic_penalty else f"held-out chi2 gain {e.chi2_gain:.1f} <= BIC penalty " \
+                                                     f"{e.bic_penalty:.1f}"
+
+
+def _robust(e: Evidence) -> str | None:
+    if e.bootstrap_p05 > 0:
+        return None
+    return f"bootstrap 5th percentile of the held-out gain {e.bootstrap_p05:.3g} <= 0"
+
+
+def _material(e: Evidence) -> str | None:
+    if e.excess_removed >= MIN_EXCESS_REMOVED:
+        return None
+    return (f"removes {100 * e.excess_removed:.0f} % < {100 * MIN_EXCESS_REMOVED:.0f} % of the held-out error "
+            "above noise")
+
+
+def _nrmse_falls(e: Evidence) -> str | None:
+    if e.nrmse_after < e.nrmse_before:
+        return None
+    return f"mean held-out NRMSE does not fall ({e.nrmse_before:.2f} -> {e.nrmse_after:.2f} %)"
+
+
+def _nothing_at_rest(e: Evidence) -> str | None:
+    if not enough_trials(len(e.rest_left), e.n_rest):
+        return None
+    return (f"leaves a trend at rest (|z| > {REST_Z:g}) in {len(e.rest_left)} of {e.n_rest} trials: "
+            f"{', '.join(e.rest_left)}")
+
+
+def _where_it_acts(e: Evidence) -> str | None:
+    if e.window_chi2_gain is None:
+        return "no held-out sample where the cause is defined or where its extension changes the force"
+    if e.window_chi2_gain > e.window_penalty and e.window_p05 > 0:
+        return None
+    where = "defined" if e.window_how == "defined" else "acting"
+    trials = ", ".join(map(str, e.window_trials))
+    return (f"where the cause is {where} ({trials}) chi2 gain {e.window_chi2_gain:.1f} vs BIC penalty "
+            f"{e.window_penalty:.1f}, bootstrap 5th percentile {e.window_p05:.3g}")
+
+
+def _material_against_the_baseline(e: Evidence) -> str | None:
+    share = e.share_of_baseline_excess
+    if not e.after_others or share is None or share >= MIN_BASELINE_SHARE:
+        return None
+    return (f"named after other causes, it removes {100 * share:.1f} % < {100 * MIN_BASELINE_SHARE:.0f} % of the "
+            "baseline's held-out error above noise")
+
+
+RULES: tuple[Rule, ...] = (
+    Rule("R0", "something to explain",
+         f"under the model before it, a held-out trial has a residual RMS above {STRUCTURE_RATIO:g} noise sd, or "
+         f"the candidate removes more than {100 * MIN_EXCESS_REMOVED_DIFFUSE:.0f} % of the held-out error above "
+         "noise", _something_to_explain),
+    Rule("R1", "identified",
+         "an effect parameter's 95 % interval excludes its neutral value, or the calibration chi-square falls by "
+         "more than the BIC penalty p ln(N_eff) (a likelihood ratio)", _identified),
+    Rule("R2", "beyond noise and parameters",
+         "the held-out chi-square gain, corrected for the noise's autocorrelation, exceeds the BIC penalty "
+         "p ln(N_eff)", _beyond_noise),
+    Rule("R3", "robust", "the 5th percentile of a moving-block bootstrap of the held-out gain is above 0", _robust),
+    Rule("R4", "material",
+         f"the candidate removes at least {100 * MIN_EXCESS_REMOVED:.0f} % of the held-out error above noise",
+         _material),
+    Rule("R5", "better where a physiologist looks", "the mean held-out NRMSE (eq 17) falls", _nrmse_falls),
+    Rule("R6", "nothing left at rest",
+         f"under the candidate's model, fewer than max({REST_MIN_TRIALS}, {100 * REST_MIN_FRACTION:.0f} %) of the "
+         f"trials with a rest window trend at rest (|z| > {REST_Z:g}); no cause of the catalogue acts where the "
+         "muscle is quiet", _nothing_at_rest),
+    Rule("R7", "where it acts",
+         "on the held-out samples where the cause is defined (its telling trials; for force enhancement and "
+         "depression, the holds after the movement measured from the isometric force at that length) or, when no "
+         "held-out trial is of that kind, where its fitted extension changes the force by more than half a noise "
+         "sd, the chi-square gain exceeds the BIC penalty there and its bootstrap 5th percentile is above 0",
+         _where_it_acts),
+    Rule("R8", "material against the baseline",
+         f"a cause named after others removes at least {100 * MIN_BASELINE_SHARE:.0f} % of the baseline's held-out "
+         "error above noise: an extension never captures a cause of another form exactly, and what it leaves of a "
+         "named cause is not a second cause", _material_against_the_baseline),
+)
+
+
+def apply_rules(evidence: Evidence) -> Evidence:
+    """Run every rule of ``RULES`` on ``evidence`` and record the failures (rule id -> why) in it; returns it."""
+    evidence.failed = {r.id: why for r in RULES if (why := r.check(evidence)) is not None}
+    return evidence
+
+
+def rule(rule_id: str) -> Rule:
+    """The rule with id ``rule_id``."""
+    for r in RULES:
+        if r.id == rule_id:
+            return r
+    raise KeyError(rule_id)

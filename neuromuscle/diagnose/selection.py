@@ -1,0 +1,328 @@
+"""Forward selection of causes: name the most material cause, fold its fitted extension into the model, search
+again on what remains, until no candidate passes the rules.
+
+One step, at the current model M (the baseline, then the baseline plus the causes named so far):
+
+1. **candidates**: every catalogue cause not yet in M that has a calibration trial of its telling kind
+   (:func:`.causes.tells`); a cause with none is listed as untestable, never guessed;
+2. **screening** (:mod:`.screening`): each candidate's linearised calibration gain at M; those whose gain beats
+   their BIC penalty by at least ``FIT_SHARE`` of the best one's are fitted, best first, and, while none of them
+   passes, the next ones too, at most ``MAX_FITS`` in all;
+3. **fit** (:func:`.models.fit_model`): M plus the candidate, the candidate's own parameters and the baseline
+   parameters it interacts with free (:func:`refitted`), from M and from M with those baseline parameters put back
+   at the base set's values;
+4. **evidence** (:mod:`.evidence`) on the held-out trials against M, and the rules (:mod:`.rules`).  Where the
+   cause is judged (R7): its telling held-out trials, or, when no held-out trial is of its kind (a file with a
+   single stretch-hold or a single post-tetanic series), the held-out samples where its fitted extension changes
+   the force by more than ``ACTS_SD`` noise sd.  There, a cause defined after a movement is measured from the
+   isometric force at the hold's length, and one that acts through the movement from the isometric misfit at
+   every sample's length (:func:`.causes.isometric_level`);
+5. the passing candidate with the best whole-file score is named; its model, refitted in every free parameter
+   (:func:`consolidate`), becomes M.
+
+The search ends when no candidate passes, none is left, or after ``MAX_STEPS`` causes.  Each step estimates the
+trials' noise again from the residuals of the model it starts from (:func:`noise_under`).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from ..fit.evaluate import TrialPool
+from ..measured import MeasuredData, Trial
+from ..model.extensions import LENGTH_PARAMETERS
+from ..parameters import ParameterSet
+from .causes import causes, isometric_level, telling_trials, where_defined
+from .evidence import Evidence, WindowSamples, excess, gather
+from .models import (CANDIDATE_TOLERANCE, MODEL_MAX_ITERATIONS, OPTIONS, FittedModel, extension_class,
+                     extension_defaults, fit_model, simulate_all)
+from .phases import TrialPhases
+from .residuals import Noise, noise_level, rest_trend_z
+from .rules import REST_Z, apply_rules
+from .screening import Screen, screen
+
+#: Candidates fitted per step: those whose screened score is at least FIT_SHARE of the best one's (a linearised
+#: gain is a ranking, not a measurement: close ones are all fitted), at most MAX_FITS, the best first.
+MAX_FITS = 3
+FIT_SHARE = 1.0 / 3.0
+#: Causes named at most.
+MAX_STEPS = 3
+#: Where a fitted extension "acts" in a held-out trial: it changes the force by more than this many noise sd.
+ACTS_SD = 0.5
+
+
+@dataclass
+class Candidate:
+    """One cause at one step: its telling trials on each side of the split, why it is untestable (or None), its
+    screen, its fitted model and its evidence (None where not fitted)."""
+
+    name: str
+    telling_calibration: list[str]
+    telling_heldout: list[str]
+    untestable: str | None = None
+    screen: Screen | None = None
+    model: FittedModel | None = None
+    evidence: Evidence | None = None
+
+    @property
+    def fitted(self) -> bool:
+        return self.model is not None
+
+
+@dataclass
+class Step:
+    """One step of the forward selection: the model it starts from, every candidate, the cause it names (or None),
+    and the trials' noise it judged with (estimated from the model it starts from)."""
+
+    index: int
+    before: FittedModel
+    candidates: dict[str, Candidate] = field(default_factory=dict)
+    named: str | None = None
+    noise: dict[str, Noise] = field(default_factory=dict)
+    consolidated: FittedModel | None = None
+    screen_s: float = 0.0
+
+    @property
+    def after(self) -> FittedModel:
+        """The model after this step: the named cause's (refitted in every free parameter when that was done),
+        else the model before."""
+        if self.named is None:
+            return self.before
+        return self.consolidated or self.candidates[self.named].model
+
+
+@dataclass
+class Context:
+    """What every step reads: the data, their descriptions and split, the noise, the measured forces, the base set
+    (scaled), the baseline's free parameters and the worker pool."""
+
+    data: MeasuredData
+    phases: Mapping[str, TrialPhases]
+    calibration: Sequence[str]
+    heldout: Sequence[str]
+    noise: Mapping[str, Noise]
+    base: ParameterSet
+    baseline_free: Sequence[str]
+    pool: TrialPool | None = None
+    progress: bool = False
+    baseline: FittedModel | None = None
+
+    @property
+    def trials(self) -> list[Trial]:
+        return list(self.data.trials.values())
+
+    @property
+    def calibration_trials(self) -> list[Trial]:
+        return [self.data.trials[i] for i in self.calibration]
+
+    @property
+    def measured(self) -> dict[str, np.ndarray]:
+        return {i: np.asarray(t.force, dtype=float) for i, t in self.data.trials.items()}
+
+    def say(self, text: str) -> None:
+        if self.progress:
+            print(f"[diagnose] {text}", file=sys.stderr, flush=True)
+
+
+def rest_trends(ctx: Context, simulated: Mapping[str, np.ndarray]) -> dict[str, float | None]:
+    """Each trial's rest trend z (None without a rest window) under a model's forces (N)."""
+    measured = ctx.measured
+    return {i: rest_trend_z(t, simulated[i] - measured[i], simulated[i], ctx.noise[i])
+            for i, t in ctx.data.trials.items()}
+
+
+def calibration_chi2(ctx: Context, simulated: Mapping[str, np.ndarray]) -> float:
+    """The calibration chi-square (noise variances) of a model's forces (N) under the step's noise: what its fits
+    minimise."""
+    measured = ctx.measured
+    return sum(float(((simulated[i] - measured[i]) ** 2).sum()) * ctx.noise[i].chi2_weight for i in ctx.calibration)
+
+
+def noise_under(ctx: Context, model: FittedModel) -> dict[str, Noise]:
+    """Every trial's noise estimated from ``model``'s residuals (first differences remove the smooth misfit, but
+    a misfit's sharp features inflate them: the better the model, the better the estimate)."""
+    measured = ctx.measured
+    return {i: noise_level(model.simulated[i] - measured[i]) for i in ctx.data.trials}
+
+
+def _identified(model: FittedModel, name: str) -> list[str]:
+    """The effect parameters of extension ``name`` whose 95 % interval excludes their neutral value."""
+    ext = extension_class(name)
+    ci = model.ci95(name)
+    out = []
+    for p in ext.parameters:
+        if p.neutral is None:
+            continue
+        lo, hi = ci[ext.qualified(p.name)]
+        if np.isfinite(lo) and np.isfinite(hi) and not lo <= p.neutral <= hi:
+            out.append(ext.qualified(p.name))
+    return out
+
+
+def _windows(ctx: Context, name: str, before: FittedModel, model: FittedModel,
+             telling_heldout: Sequence[str]) -> dict[str, WindowSamples]:
+    """Rule R7's held-out samples of cause ``name`` (module docstring, step 4)."""
+    ext = extension_class(name)
+    g1 = float(before.parameters["g1"])
+    measured = ctx.measured
+    out: dict[str, WindowSamples] = {}
+    for i in ctx.heldout:
+        w = where_defined(ext, ctx.phases, i, g1)
+        if not w.mask.any():
+            continue
+        if ext.moves and ctx.phases[i].moves:
+            lb = isometric_level(ctx.phases, i, before.simulated, measured)
+            la = isometric_level(ctx.phases, i, model.simulated, measured)
+            lb, la = (v[w.mask] if isinstance(v, np.ndarray) else v for v in (lb, la))
+        else:
+            lb = w.level(ctx.phases, {j: before.simulated[j] - measured[j] for j in w.references})
+            la = w.level(ctx.phases, {j: model.simulated[j] - measured[j] for j in w.references})
+        out[i] = WindowSamples(w.mask, "defined", w.references, lb, la)
+    if out:
+        return out
+    neutral = {ext.qualified(p.name): p.neutral for p in ext.parameters if p.neutral is not None}
+    held = [ctx.data.trials[i] for i in ctx.heldout]
+    off = simulate_all(model.parameters.with_values(neutral), held, model.extensions, pool=ctx.pool)
+    for i in ctx.heldout:
+        mask = np.abs(model.simulated[i] - off[i]) > ACTS_SD * ctx.noise[i].sd_N
+        if mask.any():
+            out[i] = WindowSamples(mask, "acts")
+    return out
+
+
+def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
+          telling_heldout: Sequence[str]) -> Evidence:
+    """The evidence of candidate ``name`` (fitted: ``model``) against ``before``, with every rule applied."""
+    n_par = len(extension_class(name).parameters)
+    n_eff_cal = sum(ctx.noise[i].n_eff for i in ctx.calibration)
+    calib = (calibration_chi2(ctx, before.simulated) - model.cost, n_par * math.log(max(n_eff_cal, 2.0)))
+    ev = gather(ctx.heldout, ctx.measured, before.simulated, model.simulated, ctx.noise, n_par,
+                _identified(model, name), calib, _windows(ctx, name, before, model, telling_heldout))
+    if ctx.baseline is not None:
+        ev.baseline_excess = excess(ctx.heldout, ctx.measured, ctx.baseline.simulated, ctx.noise)
+    ev.after_others = bool(before.extensions)
+    rest = rest_trends(ctx, model.simulated)
+    have = {i: z for i, z in rest.items() if z is not None}
+    ev.rest_left = [i for i, z in have.items() if abs(z) > REST_Z]
+    ev.n_rest = len(have)
+    return apply_rules(ev)
+
+
+def _starts(ctx: Context, name: str, before: FittedModel, screened: Screen | None) -> dict[str, ParameterSet]:
+    """The candidate's starts: the model before with the extension at its defaults (or at the time constants its
+    screen found best), and the same with the baseline parameters it interacts with at the base set's values."""
+    ext = extension_class(name)
+    values = {**extension_defaults(name), **(screened.time_constants if screened is not None else {})}
+    first = before.parameters.with_values(values)
+    back = {n: ctx.base[n] for n in ext.interacts if n in ctx.baseline_free}
+    return {"model before": first, "base set": first.with_values(back)}
+
+
+def refitted(ctx: Context, name: str) -> tuple[str, ...]:
+    """The baseline parameters candidate ``name``'s fit refits beside its own: those it interacts with
+    (``Extension.interacts``) among the baseline's free ones.  The model before it is fitted in all of them, so
+    the others stand near their optimum; the candidate's gain is, if anything, underestimated."""
+    ext = extension_class(name)
+    return tuple(n for n in ctx.baseline_free if n in ext.interacts)
+
+
+def _screens_from_the_base_length(ctx: Context, before: FittedModel, names: Sequence[str]) -> dict[str, Screen]:
+    """Candidates that interact with the force-length parameters screened a second time, with those parameters
+    put back at the base set's values (their fit's second start).  Eq 18's length dependence of activation and the
+    force-length curve of eq 12 trade off: a model without eq 18 bends g1, g2 and P0 to take up what it can of
+    it, and at the bent point the extension's linearised gain is small, though from the unbent one its fit gains
+    most (module docstring, step 3).  Measured from the model's own chi-square; none when the length parameters
+    are not free or are already at the base values."""
+    length = [n for n in LENGTH_PARAMETERS if n in ctx.baseline_free]
+    chosen = [n for n in names if set(length) & set(extension_class(n).interacts)]
+    if not length or not chosen or all(before.parameters[n] == ctx.base[n] for n in length):
+        return {}
+    point = before.parameters.with_values({n: ctx.base[n] for n in length})
+    sims = simulate_all(point, ctx.calibration_trials, before.extensions, pool=ctx.pool)
+    return screen(chosen, point, sims, ctx.calibration_trials, ctx.measured, ctx.noise, OPTIONS, pool=ctx.pool,
+                  refitted=ctx.baseline_free, extensions=before.extensions,
+                  subsets={n: refitted(ctx, n) for n in chosen},
+                  model_chi2=calibration_chi2(ctx, before.simulated), at="base force-length")
+
+
+def step(ctx: Context, index: int, before: FittedModel, max_fits: int = MAX_FITS) -> Step:
+    """One step of the forward selection at model ``before`` (module docstring)."""
+    out = Step(index, before)
+    g1 = float(before.parameters["g1"])
+    for name, ext in causes().items():
+        if name in before.extensions:
+            continue
+        cal = telling_trials(ext, ctx.phases, g1, ctx.calibration)
+        held = telling_trials(ext, ctx.phases, g1, ctx.heldout)
+        why = None if cal else f"no calibration trial of the telling kind ({ext.telling.text})"
+        out.candidates[name] = Candidate(name, cal, held, why)
+    testable = [n for n, c in out.candidates.items() if c.untestable is None]
+    if not testable:
+        return out
+    ctx.say(f"step {index}: screening {len(testable)} candidates at {before.name}")
+    t0 = time.perf_counter()
+    screens = screen(testable, before.parameters, before.simulated, ctx.calibration_trials, ctx.measured, ctx.noise,
+                     OPTIONS, pool=ctx.pool, refitted=ctx.baseline_free, extensions=before.extensions,
+                     subsets={n: refitted(ctx, n) for n in testable})
+    for n, s in _screens_from_the_base_length(ctx, before, testable).items():
+        if s.score > screens[n].score:
+            screens[n] = s
+    out.screen_s = time.perf_counter() - t0
+    for n, s in screens.items():
+        out.candidates[n].screen = s
+    ranked = sorted(testable, key=lambda n: -screens[n].score)
+    ctx.say("  scores (gain - penalty): " + "; ".join(f"{n} {screens[n].score:.4g}" for n in ranked))
+    best = screens[ranked[0]].score
+    fitted = 0
+    for n in [n for n in ranked if screens[n].score > 0]:
+        close = screens[n].score >= FIT_SHARE * best
+        if fitted >= max_fits or not (close or not any(c.evidence.passed for c in out.candidates.values()
+                                                       if c.evidence is not None)):
+            break
+        fitted += 1
+        c = out.candidates[n]
+        ctx.say(f"  fitting {before.name} + {n}")
+        c.model = fit_model(before.extensions + (n,), refitted(ctx, n), _starts(ctx, n, before, c.screen),
+                            ctx.calibration_trials, ctx.trials, ctx.noise, pool=ctx.pool,
+                            fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE)
+        c.evidence = judge(ctx, n, before, c.model, c.telling_heldout)
+        ctx.say(f"    {n} (from the {c.model.start}): {c.evidence.text()}")
+    passing = [n for n, c in out.candidates.items() if c.evidence is not None and c.evidence.passed]
+    if passing:
+        out.named = max(passing, key=lambda n: out.candidates[n].evidence.score)
+    return out
+
+
+def consolidate(ctx: Context, model: FittedModel) -> FittedModel:
+    """``model`` (the baseline plus the causes named so far) refitted in every baseline free parameter and every
+    parameter of its extensions, from its own values: the next step starts from the best model with these causes,
+    so every candidate there is judged against a model that no longer carries the compensations the baseline made
+    for the causes already named."""
+    return fit_model(model.extensions, ctx.baseline_free, {"model with the named causes": model.parameters},
+                     ctx.calibration_trials, ctx.trials, ctx.noise, pool=ctx.pool, max_iterations=MODEL_MAX_ITERATIONS,
+                     intervals="hac")
+
+
+def select(ctx: Context, baseline: FittedModel, max_steps: int = MAX_STEPS, max_fits: int = MAX_FITS) -> list[Step]:
+    """The forward selection from ``baseline`` (module docstring): every step, the last one naming nothing unless
+    ``max_steps`` causes were named."""
+    steps: list[Step] = []
+    model = baseline
+    ctx.baseline = baseline
+    for k in range(1, max_steps + 1):
+        ctx.noise = noise_under(ctx, model)
+        s = step(ctx, k, model, max_fits)
+        s.noise = dict(ctx.noise)
+        steps.append(s)
+        if s.named is None:
+            break
+        ctx.say(f"step {k}: named {s.named}; refitting {s.after.name} in every free parameter")
+        model = consolidate(ctx, s.after)
+        s.consolidated = model
+    return steps

@@ -1,0 +1,38 @@
+"""The diagnosis's CI sample: one blind preparation per measured world, a null and a two-effect file, each on a
+subset of its world's protocol set (the trials that calibrate the baseline and those that show its causes), so that
+the sample runs in minutes.  The rates over whole files are the benchmark's (``neuromuscle bench diagnose
+--suite``, docs/validation/diagnosis.md)."""
+
+from __future__ import annotations
+
+from neuromuscle.diagnose.diagnosis import diagnose_data
+from neuromuscle.synth import make_dataset, without_truth
+
+#: Twitches and 4-40 Hz trains at three lengths (the reduced set) ...
+CORE_REDUCED = ("twitch_short", "twitch_opt", "twitch_long", "train4_opt", "train10_short", "train20_short",
+                "train40_short", "train10_opt", "train20_opt", "train40_opt", "train10_long", "train20_long",
+                "train40_long", "low_rate3_opt", "low_rate6_opt")
+#: ... and 3-100 Hz trains at three lengths (the extended set).
+CORE_EXTENDED = ("twitch_short", "twitch_opt", "twitch_long", "train3_opt", "train10_opt", "train20_opt",
+                 "train40_opt", "train100_opt", "train10_short", "train40_short", "train10_long", "train40_long")
+DOUBLETS = ("doublet5_opt", "doublet10_opt", "doublet15_opt")
+
+#: name -> (first cause or None, further causes {name: strength}, world, trials)
+CASES = {
+    "A-reduced staircase": ("staircase", {}, "A-reduced", CORE_REDUCED),
+    "B-reduced relaxation": ("relaxation_rate", {}, "B-reduced", CORE_REDUCED),
+    "B doublet": ("doublet_potentiation", {}, "B", CORE_EXTENDED + DOUBLETS),
+    "A null": (None, {}, "A", CORE_EXTENDED + DOUBLETS),
+    "B-reduced null": (None, {}, "B-reduced", CORE_REDUCED),
+    "B staircase and doublet": ("staircase", {"doublet_potentiation": 0.7}, "B",
+                                CORE_EXTENDED + DOUBLETS + ("twitch_series1_opt", "twitch_series2_opt")),
+}
+STRENGTH, SEED, NOISE_PCT = 0.7, 101, 1.5
+
+
+def diagnose_case(name: str):
+    """The blind diagnosis (one worker) of sample case ``name``."""
+    cause, also, world, trials = CASES[name]
+    data = make_dataset(cause, STRENGTH, SEED, noise_pct=NOISE_PCT, world=world, trials=list(trials),
+                        also=also or None)
+    return diagnose_data(without_truth(data), workers=1)

@@ -1,0 +1,25 @@
+"""The CI sample, reduced in situ design (worlds A-reduced and B-reduced) and a null: blind diagnoses that name what
+the file holds (sample_cases.py).  A file of world A carries the paper's eq 18: length_dependent_activation must be
+named beside its hidden cause."""
+
+from sample_cases import diagnose_case
+
+
+def test_world_a_reduced_names_eq18_and_the_hidden_staircase():
+    d = diagnose_case("A-reduced staircase")
+    assert sorted(d.named) == ["length_dependent_activation", "staircase"], d.named
+    for s in d.steps:
+        if s.named:
+            assert s.candidates[s.named].evidence.passed
+
+
+def test_world_b_reduced_names_the_hidden_relaxation_alone():
+    d = diagnose_case("B-reduced relaxation")
+    assert d.named == ["relaxation_rate"], d.named
+    assert d.baseline.model.converged
+
+
+def test_a_null_names_nothing():
+    d = diagnose_case("B-reduced null")
+    assert d.named == [] and d.verdict == "none", [(s.index, {n: c.evidence.failed for n, c in s.candidates.items()
+                                                              if c.evidence}) for s in d.steps]
