@@ -65,7 +65,7 @@ def twitch_row(set_name: str, length_mm: float, stimulus_ms: float, spec: tuple[
     """A twitch at length_mm (mm) elicited at stimulus_ms (ms), 280 ms recorded after it."""
     p = load_parameters(set_name)
     end = stimulus_ms + 280.0
-    # the spec's twitch at t = 10 ms is the unsettled one: from seed 001's published initial state
+    # the spec's twitch at t = 10 ms is the unsettled one: from the published initial state of Kim et al. 2015
     initial = "published" if stimulus_ms < 100.0 else "rest"
     ref = reference_simulate(p, np.array([stimulus_ms]), length_mm, end, initial_state=initial)
     scipy = _twitch(twitch_metrics(ref.t_ms, ref.force_N, stimulus_ms))
@@ -145,7 +145,8 @@ def report(quick: bool) -> str:
     dev_spec, where_spec = largest_deviation(rows, "spec")
     dts = dt_convergence(DT_SERIES_MS[1:3] if quick else DT_SERIES_MS)
     lines = [f"Mechanism hash {mechanism_hash()[:16]}; fixed step dt = {DT_MS} ms; CVODE atol 1e-3 (in each "
-             f"state's atolscale), rtol {Simulator.rtol:g}; twitch cells: peak / time to peak / half-relaxation after the peak.", ""]
+             f"state's atolscale), rtol {Simulator.rtol:g}; twitch cells: peak / time to peak / half-relaxation after "
+             "the peak.", ""]
     lines += table(["condition (CT09 unless named)", "SciPy Radau", "NEURON fixed", "NEURON CVODE", "spec"], body)
     lines += ["", f"Largest deviation from SciPy: {100 * dev_scipy:.3f} % ({where_scipy}); "
                   f"from the spec's rounded values: {100 * dev_spec:.3f} % ({where_spec}).", ""]

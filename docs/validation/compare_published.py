@@ -1,5 +1,5 @@
 """Side by side with the authors' published NEURON code (ModelDB 266732; 267184 holds the same mechanisms),
-measured on this machine.  The published code is not part of this repository.
+measured on the machine it runs on.  The published code is not part of this repository.
 
 Run from the repository root:
     python docs/validation/compare_published.py PATH [--units 20] [--duration-ms 5000] [--no-reference]
@@ -187,7 +187,7 @@ def run_package(spikes_ms: np.ndarray, units: int, duration_ms: float) -> Run:
     from neuron import h
 
     p = load_parameters("CT09")
-    # the published code starts from seed 001's initial state: so does the package here
+    # the published code starts from the initial state of Kim et al. 2015: so does the package here
     made = [MuscleUnit(p, name=f"pkg{i}", initial_state="published") for i in range(units)]
     try:
         forces = []

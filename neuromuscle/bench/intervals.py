@@ -28,7 +28,7 @@ import numpy as np
 from scipy.stats import binomtest
 
 from ..errors import InputError
-from ..fit.synthetic import ar1_noise
+from ..measured.simulation import ar1_noise
 from ..measured import Trial
 from ..parameters import ParameterSet
 from .fit import MODULE2_SETTLE_MS, module2_protocol

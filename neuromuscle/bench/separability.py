@@ -7,7 +7,7 @@ For one case (``diagnose_suite.SuiteCase``): r = F_effect - F_null on every tria
 files of one seed share the preparation and the noise, so r is the effect alone), whitened as the verdict's
 chi-square is (1 / noise sd x sqrt((1 - rho)/(1 + rho)), rho = exp(-sample interval / noise correlation time)).
 J_m holds the sensitivities of the forces, at the true parameters, to what the diagnosis's reference refits
-(``extension_fit.REFERENCE_FREE``: Module 2, Umax, tau2; 2 % relative steps).  Then
+(Module 2's C1, C2, C3, alpha, Umax, tau2 and Module 3's P0, g1, g2; 2 % relative steps).  Then
 
 * chi2_effect = |r|^2: what the effect adds if nothing were refitted;
 * chi2_unabsorbed = min |r - J_m c|^2: what no refit of those parameters absorbs (to first order);
@@ -76,12 +76,12 @@ def _residual_after(r: np.ndarray, J: np.ndarray) -> np.ndarray:
 
 
 def separability(cause: str, strength: float, seed: int, noise_pct: float, *, workers: int = 1,
-                 trials: Sequence[str] | None = None, protocols: str = "extended") -> Separability:
+                 trials: Sequence[str] | None = None, world: str = "B") -> Separability:
     """The first-order separability of hidden effect ``cause`` at ``strength`` (0-1) in the preparation of dataset
-    seed ``seed`` with noise ``noise_pct`` (% of P0); ``protocols``: synth's protocol set, ``trials``: a subset of
-    its ids."""
-    from ..diagnose.baseline import OPTIONS
-    from ..diagnose.extension_fit import REFERENCE_FREE
+    seed ``seed`` with noise ``noise_pct`` (% of P0); ``world``: synth's world, ``trials``: a subset of its
+    protocol set's ids."""
+    from ..diagnose.models import OPTIONS
+    from ..model.extensions import ACTIVATION_PARAMETERS, LENGTH_PARAMETERS
     from ..diagnose.residuals import Noise
     from ..diagnose.screening import effect_moves, simulate_runs
     from ..errors import InputError
@@ -92,9 +92,8 @@ def separability(cause: str, strength: float, seed: int, noise_pct: float, *, wo
     if cause == "none":
         raise InputError("separability needs a hidden effect, not 'none'")
     with_effect = make_dataset(cause, strength, seed, noise_pct=noise_pct, workers=workers, trials=trials,
-                               protocols=protocols)
-    null = make_dataset(None, strength, seed, noise_pct=noise_pct, workers=workers, trials=trials,
-                        protocols=protocols)
+                               world=world)
+    null = make_dataset(None, strength, seed, noise_pct=noise_pct, workers=workers, trials=trials, world=world)
     tr = truth(with_effect)
     P = tr["parameters"]
     sd, tau = float(tr["noise_sd_N"]), float(tr["noise_tau_ms"])
@@ -106,7 +105,7 @@ def separability(cause: str, strength: float, seed: int, noise_pct: float, *, wo
         weight[t.trial_id] = math.sqrt(Noise(sd, rho, t.n_samples * (1 - rho) / (1 + rho)).chi2_weight)
     r = {i: (np.asarray(with_effect.trials[i].force) - np.asarray(null.trials[i].force)) * weight[i] for i in ids}
 
-    steps = [(n, abs(P[n]) * REFIT_STEP) for n in REFERENCE_FREE]
+    steps = [(n, abs(P[n]) * REFIT_STEP) for n in ACTIVATION_PARAMETERS + LENGTH_PARAMETERS]
     runs = [(P, ())] + [(P.with_values({n: P[n] + h}), ()) for n, h in steps]
     ext = registry().get(cause)
     grid: list[dict[str, float]] = []
@@ -162,7 +161,7 @@ def table_lines(rows: Sequence[Separability]) -> list[str]:
 
 def run_separability(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 0, workers: int = 2,
                      first: int = 1, journal: str | None = None, progress: bool = True,
-                     protocols: str = "extended") -> list[Separability]:
+                     worlds: Sequence[str] = ("B",)) -> list[Separability]:
     """:func:`separability` of the suite's cases (``diagnose_suite.suite_cases``, the same draws; nulls skipped),
     from case ``first`` (1-based), each appended to ``journal`` as a JSON line when given."""
     import json
@@ -171,12 +170,13 @@ def run_separability(n_seeds: int, *, causes: Sequence[str] | None = None, seed:
     from ..errors import InputError
     from .diagnose_suite import suite_cases
 
-    cases = [c for c in suite_cases(n_seeds, causes, seed) if c.cause != "none"]
+    cases = [c for c in suite_cases(n_seeds, causes, seed, worlds) if len(c.effects) == 1]
     if isinstance(first, bool) or not isinstance(first, int) or not 1 <= first <= len(cases):
         raise InputError(f"the first case must be between 1 and {len(cases)} (nulls are skipped), got {first!r}")
     out = []
     for k, c in enumerate(cases[first - 1:], first):
-        s = separability(c.cause, c.strength, c.seed, c.noise_pct, workers=workers, protocols=protocols)
+        (cause, strength), = c.effects
+        s = separability(cause, strength, c.seed, c.noise_pct, workers=workers, world=c.world)
         out.append(s)
         if progress:
             print(f"[separability] {k}/{len(cases)} {table_lines([s])[-1]}", file=sys.stderr, flush=True)

@@ -1,4 +1,4 @@
-"""``neuromuscle bench sweep``: robustness of the numerics over random parameter sets (issue 11).
+"""``neuromuscle bench sweep``: robustness of the numerics over random parameter sets.
 
 Each draw (``sweep_draws``) runs every protocol of ``sweep_protocols`` under the fixed step and under CVODE
 (with a per-run wall-time budget); draws run in parallel in a ``guarded_pool``, each draw's process killed if it

@@ -9,10 +9,10 @@ Draw ``index`` of ``seed`` depends on nothing else: the same seed and index give
 
 Eq 18's two lines are not drawn independently: phi4 follows from phi1, phi2, phi3 and X_opt = g1 so that the
 length factor keeps the base set's ratio across the optimum, phi(X_opt+) / phi(X_opt-) (CT09: 1.00/0.99).  The
-seed's phi is continuous at the optimum to 1 %; independent factors on the four coefficients made it jump by tens
+paper's phi is continuous at the optimum to 1 %; independent factors on the four coefficients made it jump by tens
 of percent there, a step in K5 (and with eq 20 in A) that is not physiology and that the two integrators place up to
-one step apart (docs/robustness.md).  phi4's own factor is still drawn, so every other draw keeps its stream, and
-is reported as the ratio of the derived phi4 to the base's.
+one step apart (docs/validation/robustness.md).  phi4's own factor is still drawn, so every other draw keeps its
+stream, and is reported as the ratio of the derived phi4 to the base's.
 """
 
 from __future__ import annotations

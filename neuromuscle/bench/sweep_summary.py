@@ -210,7 +210,7 @@ def markdown(summary: dict[str, Any]) -> list[str]:
         ["worst fixed-vs-CVODE difference", worst],
         [f"comparisons over {tol}", f"{summary['n_over_tolerance']} of {n_cmp} in "
                                     f"{len(summary['draws_with']['over_tolerance'])} draws"],
-        [f"their causes (sweep_explain)", ", ".join(f"{k} {v}" for k, v in summary["over_tolerance_by_cause"].items())
+        ["their causes (sweep_explain)", ", ".join(f"{k} {v}" for k, v in summary["over_tolerance_by_cause"].items())
          or "none"],
         ["wall time per run, median / max (s)",
          f"{sig(wall['median'])} / {sig(wall['max'])} (median fixed {sig(wall['fixed'].get('p50'))}, CVODE "

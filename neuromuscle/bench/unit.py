@@ -1,5 +1,5 @@
 """``neuromuscle bench unit``: wall time per simulated unit-second of this package's unit and of the authors'
-scheme (derivimplicit + spike-history loop, mod/bench_kim_published_m12.mod), alone and per unit in a pool."""
+scheme (derivimplicit + spike-history loop, mod/KimPublished.mod), alone and per unit in a pool."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import numpy as np
 from ..analysis.metrics import twitch_metrics
 from ..errors import NumericalError
 from ..model.mechanisms import load_mechanisms
-from ..model.unit import MuscleUnit
+from ..sim.unit import MuscleUnit
 from ..parameters import ParameterSet
 from ..protocols import constant_rate
 from ..sim import Simulator

@@ -1,7 +1,8 @@
-"""Staged calibration of the three-module muscle (seed 001, section 2.2.2), each stage usable alone.
+"""Staged calibration of the three-module muscle (Kim et al. 2015, section 2.2.2), each stage usable
+alone.
 
 Modules: ``module3`` (KSE, force-length, force-velocity), ``module2`` (C1..C5, alpha by a fit), ``length_compensation``
-(phi1..phi4), ``staged`` (the seed's order on one data file), ``stage`` (what a stage returns), ``trials``
+(phi1..phi4), ``staged`` (the paper's order on one data file), ``stage`` (what a stage returns), ``trials``
 (which trials a stage uses), ``examples`` (Module 3 on published cat soleus data).
 """
 

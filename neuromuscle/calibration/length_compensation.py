@@ -1,4 +1,5 @@
-"""The length compensation phi1..phi4 of the muscle (eq 18) from twitches at several lengths (seed 001, 2.2.2).
+"""The length compensation phi1..phi4 of the muscle (eq 18) from twitches at several lengths (Kim et al. 2015,
+section 2.2.2).
 
 For each twitch at length X, phi (the K5 scale) such that the simulated twitch peak equals the measured one
 (brentq on phi with phi constant: phi1 = phi3 = 0, phi2 = phi4 = phi), then
@@ -60,8 +61,8 @@ def calibrate_length_compensation(data: MeasuredData, params: ParameterSet, tria
         f = np.asarray(t.force, dtype=float)
         target = float(np.max(np.convolve(f, np.ones(3) / 3.0, mode="same"))) if f.size >= 3 else float(f.max())
 
-        def gap(phi: float) -> float:
-            return float(np.max(sim(_with_constant_phi(params, phi), t))) - target
+        def gap(phi: float) -> float:  # used within this iteration only
+            return float(np.max(sim(_with_constant_phi(params, phi), t))) - target  # noqa: B023
 
         lo, hi = phi_range
         glo, ghi = gap(lo), gap(hi)

@@ -1,5 +1,5 @@
 """Module 2 of the muscle (C1..C5, alpha) against twitches and sub-tetanic trains at the optimal length
-(seed 001, section 2.2.2), through :mod:`neuromuscle.fit`.
+(Kim et al. 2015, section 2.2.2), through :mod:`neuromuscle.fit`.
 
 A :class:`~neuromuscle.fit.FitProblem` with the NRMSE objective (twitch and trains count alike), free C1, C2, C3,
 alpha by default (C4, C5 shape tau_A far from the operating range and trade off with C3).

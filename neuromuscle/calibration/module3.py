@@ -1,9 +1,10 @@
-"""Module 3 of the muscle from three kinds of data (seed 001, section 2.2.2), and the curves it fits.
+"""Module 3 of the muscle from three kinds of data (Kim et al. 2015, section 2.2.2), and the curves it
+fits.
 
 * KSE (:func:`calibrate_kse`): force just before the length step (median over ``pre_ms``) minus the minimum
   (3-sample running mean) within the step and ``post_ms`` after it, divided by the step (mm) and P0.  The CE
   shortens a little during a finite ramp, so this direct estimate is slightly low (a few % for a 1 ms,
-  0.5 mm step on CT09); that is the seed's method and it is kept as is.
+  0.5 mm step on CT09); that is the paper's method and it is kept as is.
 * Force-length (:func:`calibrate_force_length`): least squares of F = P0 exp(-((X - g1)/g2)^2) (scipy
   curve_fit); SEs from its covariance.
 * Force-velocity (:func:`calibrate_force_velocity`): exactly two shortening + two lengthening points -> closed
@@ -37,7 +38,7 @@ def _pairs(name: str, x: Sequence[float], y: Sequence[float]) -> tuple[np.ndarra
 
 
 def calibrate_kse(step_trial: Trial, P0: float, *, pre_ms: float = 5.0, post_ms: float = 5.0) -> StageResult:
-    """KSE (1/mm) = force drop (N) / length step (mm) / P0 (N) from a step-shortening trial (seed 2.2.2)."""
+    """KSE (1/mm) = force drop (N) / length step (mm) / P0 (N) from a step-shortening trial (Kim et al. 2015, 2.2.2)."""
     if not in_model_units(step_trial):
         raise InputError(f"trial '{step_trial.trial_id}': KSE needs force in N and length in mm")
     if step_trial.length is None:
@@ -71,7 +72,7 @@ def calibrate_kse(step_trial: Trial, P0: float, *, pre_ms: float = 5.0, post_ms:
     return StageResult("KSE", {"KSE": kse}, {"force_drop_N": drop, "step_mm": step,
                                              "ramp_ms": float(t_end - t_on), "force_before_N": f_before},
                        [step_trial.trial_id],
-                       ["direct estimate (seed 2.2.2); CE shortening during a finite ramp biases it low"])
+                       ["direct estimate (Kim et al. 2015, 2.2.2); CE shortening during a finite ramp biases it low"])
 
 
 def kse_from_steps(steps: Sequence[Trial], P0: float) -> StageResult:

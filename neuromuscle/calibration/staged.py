@@ -1,6 +1,6 @@
-"""The staged calibration of seed 001 (section 2.2.2), each stage usable alone.
+"""The staged calibration of Kim et al. 2015 (section 2.2.2), each stage usable alone.
 
-Order of the seed: Module 1 is adopted (Westerblad & Allen); Module 3 from three kinds of data
+The paper's order: Module 1 is adopted (Westerblad & Allen); Module 3 from three kinds of data
 (KSE from a step shortening, g1/g2 (and P0) from isometric force-length points, a0..d0 from velocity-tension
 points); then Module 2 (C1..C5, alpha) against twitches and sub-tetanic trains at the optimal length; finally
 the length compensation phi1..phi4 (eq 18) from twitches at several lengths.

@@ -13,7 +13,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     fp.add_argument("--out", required=True, help="output directory")
     fp.add_argument("--params", default="CT09", help="start set: built-in (CT09, CT95) or parameter file")
     fp.add_argument("--free", default=None,
-                    help="comma-separated free parameters (default C1,C2,C3,alpha; with --staged: of the Module 2 stage)")
+                    help="comma-separated free parameters (default C1,C2,C3,alpha; with --staged: of the Module 2 "
+                         "stage)")
     fp.add_argument("--trials", default=None, help="comma-separated trial ids (default: stimulated N/mm trials)")
     fp.add_argument("--workers", type=int, default=1, help="parallel simulation processes (>= 1)")
     fp.add_argument("--staged", action="store_true",
@@ -31,7 +32,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..reports.fit import run_fit
+    from ..calibration.report import run_fit
 
     if args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")

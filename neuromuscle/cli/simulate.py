@@ -34,7 +34,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--no-length-compensation", action="store_true", help="switch eq 18 off (Kim excitation)")
     s.add_argument("--movement-compensation", action="store_true", help="switch eqs 19-20 on (Kim excitation)")
     s.add_argument("--excitation", default="kim", choices=["kim", "hatze"],
-                   help="excitation model in front of Module 3: Kim Modules 1-2, or Hatze (seed 000, Table 2)")
+                   help="excitation model in front of Module 3: Kim Modules 1-2, or Hatze (van Zandwijk et al. 1998, "
+                        "Table 2)")
     s.add_argument("--extension", action="append", default=[], metavar="NAME[:PARAM=VALUE,...]",
                    help="switch a model extension on (repeatable), e.g. --extension fatigue")
     s.add_argument("--out", default="out/simulation.h5", help="output HDF5 file")

@@ -1,4 +1,5 @@
-"""``neuromuscle twitch-to-tetanus``: the seed 000 workflow (twitch fit, train predictions, trend, rise times)."""
+"""``neuromuscle twitch-to-tetanus``: the workflow of van Zandwijk et al. 1998 (twitch fit, train predictions, trend,
+rise times)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,8 @@ import argparse
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     tt = sub.add_parser("twitch-to-tetanus",
-                        help="seed 000 workflow: fit theta to a twitch, predict trains, trend fits, rise times")
+                        help="the workflow of van Zandwijk et al. 1998: fit theta to a twitch, predict trains, trend "
+                             "fits, rise times")
     tt.add_argument("--out", default="out/twitch_to_tetanus", help="output directory (report.json, report.md, PNGs)")
     tt.add_argument("--subject", default="3", help="Table 1 subject (1-4) of the twitch")
     tt.add_argument("--twitch-csv", default=None,

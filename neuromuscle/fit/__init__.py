@@ -1,4 +1,5 @@
-"""Fit parameters of the three-module muscle to measured trials (seed 000 eq 5: sum of squared force errors).
+"""Fit parameters of the three-module muscle to measured trials (the sum of squared force errors, eq 5
+of van Zandwijk et al. 1998).
 
 Reads like the experiment::
 
@@ -11,18 +12,18 @@ Modules, one decision each: ``problem`` (what to fit), ``evaluate`` (a trial's s
 map), ``transforms`` (search space and default bounds), ``objectives`` (sse / nrmse), ``optimizers``
 (trust region, PRAXIS, Levenberg-Marquardt), ``uncertainty`` (intervals and identifiability, shared with the
 Hatze twitch fit), ``intervals`` (the fit's interval methods: HAC covariance, integrator error),
-``checkpoint`` (progress, checkpoint, resume), ``run`` (``fit`` and ``FitResult``),
-``synthetic`` (trials simulated from known parameters plus noise).
+``checkpoint`` (progress, checkpoint, resume), ``run`` (``fit`` and ``FitResult``).  The simulation of a measured
+trial and the synthetic trials are :mod:`neuromuscle.measured.simulation`'s (exported here too).
 """
 
+from ..measured.simulation import ar1_noise, synthetic_trial, trial_simulation
 from .checkpoint import CHECKPOINT_SCHEMA, read_checkpoint
-from .evaluate import SimulationOptions, trial_simulation
+from .evaluate import SimulationOptions
 from .intervals import INTERVAL_METHODS, fit_uncertainty
 from .objectives import OBJECTIVES
 from .optimizers import LMResult, levenberg_marquardt
 from .problem import FitProblem
 from .run import METHODS, FitResult, fit
-from .synthetic import ar1_noise, synthetic_trial
 from .uncertainty import COVARIANCES, Rules, Uncertainty, describe_method, estimate_uncertainty
 
 __all__ = ["CHECKPOINT_SCHEMA", "COVARIANCES", "INTERVAL_METHODS", "METHODS", "OBJECTIVES", "FitProblem",

@@ -1,10 +1,7 @@
-"""Evaluation of candidates: one measured trial -> simulated force, and the map over candidate parameter vectors.
+"""Evaluation of candidates: the map over candidate parameter vectors, each trial's runs batched.
 
-* **Simulation of a trial** (:func:`trial_simulation`): the trial's clock (s) becomes the simulation clock (ms)
-  with ``time_s[0]`` at ``settle_ms`` (default 500 ms, spec: Ã starts at 0 and must settle before the first
-  stimulus).  During the settling period the length is held at the trial's first length.  The force is recorded
-  every ``record_dt_ms`` (default: every step) and linearly interpolated at the trial's samples.  Trials must
-  be in N and mm (the model's units): joint moments / angles are refused.
+* **Simulation of a trial**: :func:`neuromuscle.measured.simulation.trial_simulation` (the trial's clock in s
+  becomes the simulation clock in ms, ``time_s[0]`` at ``settle_ms``; the force interpolated at the trial's samples).
 * **Map.**  All candidates of one Jacobian are evaluated by one call of the map in a fixed order, so serial and
   parallel fits are identical: every candidate is a pure function of its parameter vector (fixed-step
   integration; each simulation builds and tears down its unit).
@@ -30,12 +27,11 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, MutableMapp
 import numpy as np
 
 from ..errors import InputError, NumericalError
-from ..protocols import LengthTrace
 from ..measured import Trial
-from ..parameters import ParameterSet
+from ..measured.simulation import trial_clock
 from ..model.kim import kim_excitation
-from ..model.unit import Model
-from ..sim import simulate, simulate_batch
+from ..parameters import ParameterSet
+from ..sim import simulate_batch
 
 if TYPE_CHECKING:
     from .problem import FitProblem
@@ -43,7 +39,7 @@ if TYPE_CHECKING:
 MapFn = Callable[[Callable[[Any], Any], Iterable[Any]], Iterable[Any]]
 
 #: The most units one batched NEURON run holds (:func:`trial_simulations`): a single unit spends most of its step
-#: in NEURON's per-mechanism overhead, which a batch shares; per run of a 12.5 s train (this machine kind) 106 ms
+#: in NEURON's per-mechanism overhead, which a batch shares; per run of a 12.5 s train (on two cores) 106 ms
 #: alone, 47 ms in batches of 8, 41 ms of 16, no better beyond.
 BATCH_UNITS = 16
 
@@ -63,56 +59,6 @@ class SimulationOptions:
     extensions: tuple[str, ...] = ()
 
 
-def check_trial_units(trial: Trial) -> None:
-    """Refuse a trial whose force is not in N or whose length is not in mm."""
-    if trial.force_unit != "N" or trial.length_unit != "mm":
-        raise InputError(f"trial '{trial.trial_id}': force in {trial.force_unit!r} and length in "
-                         f"{trial.length_unit!r}; the muscle model needs 'N' and 'mm' (convert joint moments "
-                         "and angles first)")
-
-
-def _protocol(trial: Trial, settle_ms: float) -> tuple[np.ndarray, float, np.ndarray, LengthTrace | float]:
-    """The trial on the simulation clock: sample times (ms), duration (ms), stimulus times (ms) and the length
-    (mm, constant or a trace), time_s[0] at settle_ms."""
-    check_trial_units(trial)
-    if not np.isfinite(settle_ms) or settle_ms < 0:
-        raise InputError(f"settle_ms must be finite and >= 0, got {settle_ms}")
-    t0 = float(trial.time_s[0])
-    t_ms = settle_ms + (np.asarray(trial.time_s, dtype=float) - t0) * 1000.0
-    spikes_ms = settle_ms + (np.asarray(trial.stimulus_times_s, dtype=float) - t0) * 1000.0
-    length: LengthTrace | float
-    if trial.length is None:
-        if trial.length_const is None:
-            raise InputError(f"trial '{trial.trial_id}': neither a length dataset nor a constant length")
-        length = float(trial.length_const)
-    else:
-        x = np.asarray(trial.length, dtype=float)
-        lt, lx = (t_ms, x) if settle_ms == 0 else (np.concatenate([[0.0], t_ms]), np.concatenate([[x[0]], x]))
-        length = float(x[0]) if np.all(x == x[0]) else LengthTrace(lt, lx, name=f"trial {trial.trial_id}")
-    return t_ms, float(t_ms[-1]), spikes_ms, length
-
-
-def trial_simulation(params: ParameterSet, trial: Trial, dt_ms: float = 0.05, *,
-                     record_dt_ms: float | None = None, settle_ms: float = 500.0,
-                     length_compensation: bool = True, movement_compensation: bool = False,
-                     extensions: tuple[str, ...] = (), excitation: Model = None,
-                     contraction: Model = None) -> np.ndarray:
-    """Simulated force (N) of a measured trial at the trial's own time points (``trial.time_s``, s).
-
-    The trial's time_s[0] is placed at settle_ms (ms) of simulated time; the length (constant or played) is
-    held at its first value before that.  Stimulus times (s) are converted to ms on the same clock.
-    extensions: canonical names of catalogue extensions to switch on, valued from ``params``.
-    excitation/contraction: as ``MuscleUnit`` (default: Kim Modules 1-2 with the two switches, Module 3).
-    """
-    t_ms, duration_ms, spikes_ms, length = _protocol(trial, settle_ms)
-    rec = dt_ms if record_dt_ms is None else record_dt_ms
-    res = simulate(params, spikes_ms, length, duration_ms, dt_ms=dt_ms, record_dt_ms=rec, record=("force.F",),
-                   excitation=kim_excitation(length_compensation, movement_compensation) if excitation is None
-                   else excitation, contraction=contraction,
-                   extensions={name: {} for name in extensions} or None)
-    return np.interp(t_ms, res.t_ms, res.force_N)
-
-
 def trial_simulations(params: Sequence[ParameterSet], trial: Trial,
                       options: Sequence[SimulationOptions]) -> list[np.ndarray | None]:
     """The force (N) of ``trial`` under each parameter set with its options (None where the run failed
@@ -126,7 +72,7 @@ def trial_simulations(params: Sequence[ParameterSet], trial: Trial,
     for c, o in enumerate(options):
         groups.setdefault(replace(o, extensions=()), []).append(c)
     for opts, members in groups.items():
-        t_ms, duration_ms, spikes_ms, length = _protocol(trial, opts.settle_ms)
+        t_ms, duration_ms, spikes_ms, length = trial_clock(trial, opts.settle_ms)
         for start in range(0, len(members), BATCH_UNITS):
             chunk = members[start:start + BATCH_UNITS]
             results = simulate_batch(

@@ -6,8 +6,8 @@
   is first order (README, Numerics), so F_dt - F_exact ~ 2 (F_dt - F_dt/2) (Richardson); its effect on the
   estimates is ``Uncertainty.numerical_bias``.  One extra simulation of every trial at dt/2.
 * ``"hac"``: the HAC covariance alone.
-* ``"iid"``: s^2 (J^T J)^-1, the intervals before issue 11: right only for independent noise of one variance
-  and data from the fit's own integrator (too narrow otherwise, see docs/intervals.md).
+* ``"iid"``: s^2 (J^T J)^-1, the textbook intervals: right only for independent noise of one variance
+  and data from the fit's own integrator (too narrow otherwise, see docs/validation/intervals.md).
 """
 
 from __future__ import annotations

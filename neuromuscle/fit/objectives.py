@@ -1,6 +1,7 @@
 """Objectives of a fit: how the force errors of the trials are weighted into one residual vector.
 
-* ``"sse"``: residuals sqrt(w_k) (F_sim - F_meas) (N); cost = sum of squares (eq 5 of seed 000, weighted by
+* ``"sse"``: residuals sqrt(w_k) (F_sim - F_meas) (N); cost = sum of squares (eq 5 of van Zandwijk et al. 1998,
+  weighted by
   trial).
 * ``"nrmse"``: residuals sqrt(w_k) 100 (F_sim - F_meas) / (range_k sqrt(n_k)), so that
   cost = sum_k w_k NRMSE_k^2 (%^2, eq 17): trials of different size and force range count alike.

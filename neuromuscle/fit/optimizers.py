@@ -1,5 +1,5 @@
 """Optimisers of a sum of squared residuals: scipy's trust-region least squares with a finite-difference
-Jacobian, NEURON's PRAXIS (the seed's baseline), and Levenberg-Marquardt with an analytic Jacobian.
+Jacobian, NEURON's PRAXIS (the optimiser of Kim et al. 2015), and Levenberg-Marquardt with an analytic Jacobian.
 
 * **Finite-difference Jacobian** (:func:`fd_jacobian`): central differences in z (step h, default 1e-3, i.e.
   0.1 % for log parameters; one-sided at a bound; ``fd="forward"`` halves the cost).  All candidates of one

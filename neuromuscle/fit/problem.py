@@ -16,8 +16,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..measured import Trial
+from ..measured.simulation import check_trial_units, trial_simulation
 from ..parameters import SPECS, ParameterSet
-from .evaluate import SimulationOptions, check_trial_units, trial_simulation
+from .evaluate import SimulationOptions
 from .objectives import OBJECTIVES, residual_scales, weighted_residuals
 from .transforms import Transform, default_bounds
 
@@ -131,7 +132,7 @@ class FitProblem:
         """The transform of each free parameter (for the checkpoint)."""
         return {tf.name: {"ref": tf.ref, "log": tf.log, "scale": tf.scale} for tf in self._tf}
 
-    def with_options(self, options: SimulationOptions) -> "FitProblem":
+    def with_options(self, options: SimulationOptions) -> FitProblem:
         """The same problem (trials, weights, free parameters, search space) simulated with other ``options``."""
         other = copy.copy(self)
         other.options = options

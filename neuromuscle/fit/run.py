@@ -170,7 +170,7 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     """Fit ``problem``'s free parameters (search space: :mod:`.transforms`; statistics: :mod:`.uncertainty`).
 
     method: "least_squares" (scipy trust-region reflective with a finite-difference Jacobian in z) or
-    "praxis" (NEURON's h.fit_praxis on the cost, the seed's baseline; serial; bounds by clipping plus a
+    "praxis" (NEURON's h.fit_praxis on the cost, the optimiser of Kim et al. 2015; serial; bounds by clipping plus a
     penalty).  map_fn(fn, iterable) evaluates candidates (any ``map``; serial by default); ``workers`` > 1
     instead splits every evaluation by candidate and trial over a process pool (:class:`.evaluate.TrialPool`),
     and ``pool`` (a TrialPool holding the problem's trials) does the same on a pool the caller keeps.

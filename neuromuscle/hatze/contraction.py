@@ -1,17 +1,18 @@
-"""Contraction dynamics of the triceps surae muscle-tendon complex (MTC) in angular coordinates (seed 000, 2.1.1).
+"""Contraction dynamics of the triceps surae muscle-tendon complex (MTC) in angular coordinates
+(van Zandwijk et al. 1998, section 2.1.1).
 
 Angles are "lengths as angles" (rad), moments in N m, velocities in rad/s, time in s. The MTC is a CE in parallel
 with a PEE, in series with an SEE: phi_mtc = phi_ce + phi_see, M_mtc = M_see = M_ce + M_pee.
 
 * CE moment-angle (parabola): M_iso(phi_ce) = Mmax (1 - ((phi_ce/phi_ce_opt - 1)/w)^2), clipped at 0.
-* Active state: the CE's isometric moment is F0 = q M_iso(phi_ce). In eq 1 the seed writes the shortening branch
+* Active state: the CE's isometric moment is F0 = q M_iso(phi_ce). In eq 1 the paper writes the shortening branch
   for full activation, omega_ce = (M_max(phi_ce) - M) b / (M + a_rel Mmax); as in the model it builds on
   (Van Soest & Bobbert 1993) the active state enters by replacing the isometric moment M_max(phi_ce) with
-  q M_iso(phi_ce) and *only there*: a = a_rel Mmax stays fixed (the seed's denominator has Mmax without an angle
+  q M_iso(phi_ce) and *only there*: a = a_rel Mmax stays fixed (the paper's denominator has Mmax without an angle
   argument), so the maximal shortening velocity q M_iso b/(a_rel Mmax) falls with q. (VSB93's extra scaling of b
-  at q < 0.3 is not in the seed and is not used.)
+  at q < 0.3 is not in the paper and is not used.)
 * CE shortening (eq 1, omega_ce > 0 is shortening): omega_ce = (F0 - M) b / (M + a_rel Mmax), b = b_rel phi_ce_opt.
-* CE lengthening (not in the seed; the standard eccentric hyperbola of Van Soest & Bobbert 1993): with D = M - F0
+* CE lengthening (not in the paper; the standard eccentric hyperbola of Van Soest & Bobbert 1993): with D = M - F0
   > 0 and lengthening velocity v = -omega_ce, M = F0 (1.5 - 0.5 b_e/(v + b_e)), i.e. v = b_e r/(1 - r) with
   r = D/(0.5 F0). Asymptote 1.5 F0; b_e = F0 b / (4 (F0 + a)) makes dM/dv at v = 0 twice the concentric slope
   (F0 + a)/b, and both branches give M = F0 at v = 0 (continuous). From r = 0.8 (M = 1.4 F0) on, v is continued
@@ -19,7 +20,7 @@ with a PEE, in series with an SEE: phi_mtc = phi_ce + phi_see, M_mtc = M_see = M
   faster than the SEE unloads (relaxation) and at F0 = 0; r = 0.8 rather than closer to the asymptote keeps the
   slope (25 times the hyperbola's at v = 0) moderate, so that the explicit integrator stays stable.
 * SEE (eq 2): M_see = k_see e^2 for extension e = phi_see - phi_see0 > 0, else 0.
-* PEE: M_pee = k_pee (phi_ce - phi_pee0)^2 for phi_ce > phi_pee0 (k_pee = 0 by default, as in the seed).
+* PEE: M_pee = k_pee (phi_ce - phi_pee0)^2 for phi_ce > phi_pee0 (k_pee = 0 by default, as in the paper).
 * SEE slack: chosen so that CE sits at phi_ce_opt exerting Mmax when the MTC is at the test angle (ankle 100 deg):
   the SEE extension there is e_test = sqrt((Mmax + M_pee(phi_ce_opt))/k_see). The MTC angle enters through its
   offset from the test angle, ``mtc_offset_rad`` (> 0: MTC longer); in angular coordinates a change of the
@@ -48,9 +49,9 @@ from scipy.optimize import brentq
 
 from ..errors import InputError, NumericalError
 from .excitation import active_state_of_x, excitation_states, rise_time_s, uniform_grid
-from .parameters import ActiveStateConstants, ExcitationTheta, Subject, check_positive
+from ..model.hatze_parameters import ActiveStateConstants, ExcitationTheta, Subject, check_positive
 
-#: Ankle angle (tibia to sole of the foot) of the seed's isometric experiments, rad (100 deg).
+#: Ankle angle (tibia to sole of the foot) of the paper's isometric experiments, rad (100 deg).
 TEST_JOINT_ANGLE_RAD: float = math.radians(100.0)
 #: Eccentric asymptote relative to F0 = q M_iso.
 ECC_ASYMPTOTE: float = 1.5
@@ -377,7 +378,7 @@ def simulate_isometric(stim_times_s: ArrayLike, t_end_s: float, subject: Subject
                        constants: ActiveStateConstants = _DEFAULT_CONSTANTS) -> IsometricTrace:
     """Isometric MTC moment after stimuli at ``stim_times_s`` (s), from rest, on the grid 0, step_s, ..., t_end_s.
 
-    ``joint_angle_rad``: ankle angle (rad; default the seed's 100 deg test angle, where the SEE slack puts the CE
+    ``joint_angle_rad``: ankle angle (rad; default the paper's 100 deg test angle, where the SEE slack puts the CE
     at phi_ce_opt under Mmax). q follows eq 9 with xi = phi_ce/phi_ce_opt (``length_dependent``) or xi = 1.
     Returns t (s), moment (N m), q (1), phi_ce (rad).
     """
@@ -407,7 +408,8 @@ def moment_rise_time_s(subject: Subject, t_end_s: float = 1.5, step_s: float = D
                        q_rest: float = ActiveStateConstants().q0) -> float:
     """Rise time (s, 10 % to 90 % of the maximum) of the isometric moment at the test angle under q = 1.
 
-    The active state steps from ``q_rest`` (the equilibrium before t = 0) to 1 at t = 0 (seed 3.3, Fig 9).
+    The active state steps from ``q_rest`` (the equilibrium before t = 0) to 1 at t = 0 (the paper's section 3.3,
+    Fig 9).
     """
     sol = simulate_active_state_drive(subject, t_end_s, 1.0, 0.0, step_s, q_initial=q_rest)
     return rise_time_s(sol.t_s, sol.moment_nm)
@@ -439,7 +441,7 @@ def release_profile(t_s: ArrayLike, velocity_rad_s: float, t_release_s: float, r
 def simulate_release(subject: Subject, velocity_rad_s: float, t_end_s: float = 0.4, t_release_s: float = 0.05,
                      ramp_s: float = 0.005, displacement_rad: float = 1.0, sample_rate_hz: float = 2000.0,
                      step_s: float = 2.5e-4) -> ReleaseData:
-    """Synthetic isokinetic release at q = 1 from isometric equilibrium at the test angle (seed 2.2.2).
+    """Synthetic isokinetic release at q = 1 from isometric equilibrium at the test angle (the paper's section 2.2.2).
 
     Returns samples at ``sample_rate_hz`` of t (s), MTC angle relative to the start (rad) and moment (N m).
     """

@@ -1,4 +1,5 @@
-"""The twitch the seed 000 workflow fits: a measured CSV, or a synthetic isometric twitch with seeded noise."""
+"""The twitch the workflow of van Zandwijk et al. 1998 fits: a measured CSV, or a synthetic isometric twitch with
+seeded noise."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from .contraction import DEFAULT_STEP_S
 from .twitch_fit import twitch_moment
-from .parameters import ExcitationTheta, Subject
+from ..model.hatze_parameters import ExcitationTheta, Subject
 
 #: Columns a twitch CSV must have.
 CSV_COLUMNS: tuple[str, str] = ("time_s", "moment_nm")

@@ -1,4 +1,4 @@
-"""Hatze's excitation dynamics (seed 000, Appendix eqs 6-10), integrated exactly.
+"""Hatze's excitation dynamics (van Zandwijk et al. 1998, Appendix eqs 6-10), integrated exactly.
 
 Equations (time t in s; alpha dimensionless, beta in s^2, gamma in s^4, theta in ``parameters.THETA_UNITS``)::
 
@@ -41,7 +41,7 @@ from scipy.stats import t as student_t
 
 from ..errors import InputError, NumericalError
 from ..validate import check_spike_times
-from .parameters import ActiveStateConstants, ExcitationTheta, TrendParameters, check_positive
+from ..model.hatze_parameters import ActiveStateConstants, ExcitationTheta, TrendParameters, check_positive
 
 #: Duration of one stimulus (half-sine) of alpha, s (eq 8).
 PULSE_DURATION_S: float = 1e-3
@@ -384,10 +384,10 @@ def fit_trend_to_full_model(theta: ExcitationTheta, rate_hz: float = NU_REFERENC
 
 
 def rise_time_s(t_s: ArrayLike, y: ArrayLike, low: float = 0.1, high: float = 0.9) -> float:
-    """Time (s) for ``y`` to rise from ``low`` to ``high`` times its maximum (seed 3.3: 10 % to 90 %).
+    """Time (s) for ``y`` to rise from ``low`` to ``high`` times its maximum (the paper's section 3.3: 10 % to 90 %).
 
     First upward crossings, linearly interpolated; the levels are fractions of the maximum itself (no baseline
-    subtraction, as in the seed), so a resting level above ``low`` * max gives a crossing at t_s[0].
+    subtraction, as in the paper), so a resting level above ``low`` * max gives a crossing at t_s[0].
     """
     t = np.asarray(t_s, dtype=float)
     v = np.asarray(y, dtype=float)

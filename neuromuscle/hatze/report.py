@@ -1,4 +1,5 @@
-"""Figures, Markdown and JSON form of the seed 000 workflow's report (``workflow.run_twitch_to_tetanus``)."""
+"""Figures, Markdown and JSON form of the report of the twitch-to-tetanus workflow (van Zandwijk et al. 1998;
+``workflow.run_twitch_to_tetanus``)."""
 
 from __future__ import annotations
 
@@ -17,7 +18,7 @@ from .data import Twitch
 from .excitation import (NU_REFERENCE_RATE_HZ, TrendFit, active_state_of_x, excitation_states, train_times,
                          trend_gamma)
 from .twitch_fit import TrainPrediction
-from .parameters import ActiveStateConstants, ExcitationTheta, Subject
+from ..model.hatze_parameters import ActiveStateConstants, ExcitationTheta, Subject
 
 #: Figures written by :func:`write_figures`, in this order.
 FIGURES: tuple[str, ...] = ("twitch_fit.png", "trains.png", "trend_fit.png", "rise_times.png")
@@ -113,12 +114,12 @@ def _rise_times(subjects: Mapping[str, Subject], rise: Mapping[str, Any], step_s
 # ------------------------------------------------------------------------------------------- markdown
 
 def render_markdown(rep: dict[str, Any]) -> str:
-    """The human-readable report: inputs, then the table quantity | ours | seed | note."""
+    """The human-readable report: inputs, then the table quantity | ours | paper | note."""
     fit = rep["fit"]
-    lines = ["# From twitch to tetanus (seed 000): workflow report", "", *_inputs(rep), ""]
+    lines = ["# From twitch to tetanus (van Zandwijk et al. 1998): workflow report", "", *_inputs(rep), ""]
     rows = [*_theta_rows(fit), *_train_rows(rep["trains"]), *_trend_rows(rep["trend"]),
             *_rise_rows(rep["rise_times"])]
-    lines += table(("quantity", "ours", "seed", "note"), rows)
+    lines += table(("quantity", "ours", "paper", "note"), rows)
     lines += ["", "Figures: " + ", ".join(f"`{f}`" for f in rep.get("files", []) if f.endswith(".png")), ""]
     return "\n".join(lines)
 
@@ -138,7 +139,7 @@ def _inputs(rep: dict[str, Any]) -> list[str]:
             + ", ".join(sig(v, 2) for v in fit["singular_values_dM_dlntheta_nm"])
             + ". Only the mean slow root and the gain theta5/(theta2 theta4) are well determined; theta1 leaves no "
             "trace in a twitch, and under noise of a few 0.01 N m theta2..theta5 drift along a flat valley, so "
-            "whether they land inside the seed's (much narrower) intervals depends on the noise draw.",
+            "whether they land inside the paper's (much narrower) intervals depends on the noise draw.",
             f"- Created {prov['created_utc']}; neuromuscle {prov['versions'].get('neuromuscle')}, numpy "
             f"{prov['versions'].get('numpy')}, scipy {prov['versions'].get('scipy')}."]
 
@@ -150,7 +151,7 @@ def _theta_rows(fit: dict[str, Any]) -> list[tuple[str, ...]]:
         if p["frozen"]:
             note = "frozen at Table 2 (not identifiable from a twitch)"
         else:
-            note = ("estimate inside" if p["inside_seed_interval"] else "estimate OUTSIDE") + " seed interval"
+            note = ("estimate inside" if p["inside_seed_interval"] else "estimate OUTSIDE") + " the paper's interval"
             note += "; flagged poorly identified" if p["poorly_identified"] else ""
         rows.append((f"{n} ({p['unit']})", value_range(p["estimate"], p["lower"], p["upper"]),
                      value_range(s["value"], s["lower"], s["upper"]), note))
@@ -158,7 +159,7 @@ def _theta_rows(fit: dict[str, Any]) -> list[tuple[str, ...]]:
     for quantity, key in (("mean slow root (1/s)", "mean_slow_rate_per_s"),
                           ("gain theta5/(theta2 theta4)", "gain_theta5_over_theta2_theta4")):
         rows.append((quantity, sig(ic[key]["ours"], 4), sig(ic[key]["table2"], 4),
-                     "seed column computed from Table 2; well determined"))
+                     "paper column computed from Table 2; well determined"))
     return rows
 
 
@@ -167,7 +168,7 @@ def _train_rows(tr: dict[str, Any]) -> list[tuple[str, ...]]:
              "n/a (Fig 8)", f"Table 2 theta: {fixed(r['peak_moment_table2_theta_nm'])}; last period / peak "
              f"{fixed(r['last_period_max_over_peak'], 3)} (no negative staircase)") for r in tr["rows"]]
     rows.append(("mean peak moment 4-24 Hz (N m)", fixed(tr["mean_peak_moment_nm"]), "n/a (Fig 8)",
-                 "seed: model underestimates high rates"))
+                 "the paper: the model underestimates high rates"))
     return rows
 
 
@@ -185,7 +186,7 @@ def _trend_rows(trend: dict[str, Any]) -> list[tuple[str, ...]]:
                      "conventions differ by a constant"))
     ft = trend["fitted_theta"]
     rows.append(("trend m, 1 s window, Table 2 theta (1/s)", fixed(trend["table2_theta_1s_window"]["m_per_s"]),
-                 "7.94", "m depends on the window; seed's value is met with 3-10 s"))
+                 "7.94", "m depends on the window; the paper's value is met with 3-10 s"))
     rows.append(("trend m from our fitted theta (1/s)", fixed(ft["m_per_s"]), "7.94", f"subject {ft['subject']}"))
     return rows
 
@@ -194,7 +195,7 @@ def _rise_rows(rise: dict[str, Any]) -> list[tuple[str, ...]]:
     rows = [(f"moment rise time q = 1, subject {k} (ms)", in_ms(v), "n/a", "10-90 %")
             for k, v in rise["moment_q1_s"].items()]
     rows.append(("moment rise time q = 1, mean (ms)", in_ms(rise["moment_q1_mean_s"]),
-                 in_ms(rise["moment_q1_mean_seed_s"]), "seed 3.3 'on average'"))
+                 in_ms(rise["moment_q1_mean_seed_s"]), "the paper's section 3.3, 'on average'"))
     levels = ", ".join(map(str, rise["active_state_levels_nu"]))
     for k, v in rise["active_state_trend"].items():
         per = ", ".join(in_ms(x) for x in v["rise_time_s_by_nu"].values())
@@ -202,5 +203,5 @@ def _rise_rows(rise: dict[str, Any]) -> list[tuple[str, ...]]:
                      f"mean of nu = {levels}: {per} ms; {v['source']}"))
     rows.append(("active-state rise time, mean (ms)", in_ms(rise["active_state_trend_mean_s"]),
                  in_ms(rise["active_state_trend_mean_seed_s"]),
-                 f"seed's low/high levels unstated; ours nu = {levels}"))
+                 f"the paper's low/high levels unstated; ours nu = {levels}"))
     return rows

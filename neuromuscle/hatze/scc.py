@@ -1,4 +1,4 @@
-"""Self-consistent calculation (SCC, seed 000 section 2.3.1, eqs 3-4) of the CE moment-velocity and SEE
+"""Self-consistent calculation (SCC, van Zandwijk et al. 1998, section 2.3.1, eqs 3-4) of the CE moment-velocity and SEE
 moment-extension relations from isokinetic release contractions.
 
 Input: releases, each with time (s), MTC angle (rad; any offset, *decreasing* when the MTC shortens) and moment
@@ -13,7 +13,7 @@ They are mutually dependent:
   eq 3 (all releases): omega_ce = omega_mtc + (dM/dt) / (2 sqrt(M k_see)), i.e. the MTC velocity minus the SEE
        shortening velocity from the current SEE relation, at each isokinetic sample with M >= ``ce_min_fraction``
        M_init and an estimated CE excursion from its initial angle <= ``max_ce_excursion_rad`` (so that all
-       points pertain to nearly the same CE angle, as in the seed's Fig 4);
+       points pertain to nearly the same CE angle, as in the paper's Fig 4);
   eq 4 (fastest release, the controlled release): SEE shortening
        dphi_see(t) = dphi_mtc(t) - int_0^t (M_init - M) b / (M + a_rel M_init) dt from the current CE relation,
        at each sample from the release start until the moment first reaches ``zero_fraction`` M_init; then
@@ -40,7 +40,7 @@ from scipy.integrate import cumulative_trapezoid
 from scipy.optimize import least_squares
 
 from ..errors import InputError, NumericalError
-from .parameters import check_positive
+from ..model.hatze_parameters import check_positive
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,4 @@
-"""The numbers of each section of the seed 000 workflow's report, steps (b)-(e) of ``workflow``."""
+"""The numbers of each section of the twitch-to-tetanus workflow's report, steps (b)-(e) of ``workflow``."""
 
 from __future__ import annotations
 
@@ -11,7 +11,8 @@ from .contraction import moment_rise_time_s
 from .data import Twitch
 from .excitation import NU_REFERENCE_RATE_HZ, TrendFit, fit_trend_to_full_model, trend_active_state_rise_time_s
 from .twitch_fit import SEED_TRAIN_RATES_HZ, TrainPrediction, TwitchFit, fit_twitch, predict_trains, twitch_moment
-from .parameters import (THETA_NAMES, THETA_UNITS, ExcitationTheta, Subject, load_subjects, load_theta_intervals,
+from ..model.hatze_parameters import (THETA_NAMES, THETA_UNITS, ExcitationTheta, Subject, load_subjects,
+                                      load_theta_intervals,
                          load_trend_table)
 
 #: Seed 3.3: mean rise time of moment under q = 1 (s) and of the trend model's active state (s).
@@ -65,7 +66,7 @@ def fit_section(twitch: Twitch, subj: Subject, table2: ExcitationTheta, start_fa
 
 def train_section(theta: ExcitationTheta, subj: Subject, table2: ExcitationTheta, *, duration_s: float,
                   t_end_s: float, step_s: float) -> tuple[list[TrainPrediction], dict[str, Any]]:
-    """(c) Isometric trains of ``duration_s`` (s, simulated to ``t_end_s``) at the seed's rates with ``theta``,
+    """(c) Isometric trains of ``duration_s`` (s, simulated to ``t_end_s``) at the paper's rates with ``theta``,
     Table 2's peaks beside: the predictions and the section."""
     dur = duration_s
     preds = predict_trains(theta, subj, SEED_TRAIN_RATES_HZ, dur, t_end_s, step_s)
@@ -105,7 +106,7 @@ def trend_section(theta: ExcitationTheta, table2: ExcitationTheta, subj: Subject
     for name in load_subjects():
         seed_row = table3.get(name)
         rows[name] = {
-            "theta_source": "Table 2 (subject 3's theta; the seed publishes no other)",
+            "theta_source": "Table 2 (subject 3's theta; the paper publishes no other)",
             "reproduction": name == "3",
             "m_per_s": trend_t2.params.m, "m_ci": trend_t2.m_ci,
             "c_raw_s4": trend_t2.params.c, "x_theta5_c": table2.theta5 * trend_t2.params.c,
@@ -142,7 +143,7 @@ def rise_time_section(subjects: dict[str, Subject], trend_t2: TrendFit, table2: 
                     "rise_time_s_by_nu": dict(zip(map(str, ACTIVE_STATE_LEVELS_NU), rts)),
                     "mean_s": float(np.mean(rts))}
     rt_fit = [trend_active_state_rise_time_s(m_fit, x_fit * nu) for nu in ACTIVE_STATE_LEVELS_NU]
-    return {"definition": "10 % to 90 % of the maximum (seed 3.3)",
+    return {"definition": "10 % to 90 % of the maximum (the paper's section 3.3)",
             "moment_q1_s": moment_rt, "moment_q1_mean_s": float(np.mean(list(moment_rt.values()))),
             "moment_q1_mean_seed_s": SEED_MOMENT_RISE_TIME_S,
             "active_state_levels_nu": ACTIVE_STATE_LEVELS_NU, "active_state_trend": as_rt,

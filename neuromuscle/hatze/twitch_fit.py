@@ -1,4 +1,5 @@
-"""Fit of theta1..theta5 to one isometric twitch (seed 000, 2.3.2, eq 5) and prediction of tetanic trains.
+"""Fit of theta1..theta5 to one isometric twitch (van Zandwijk et al. 1998, section 2.3.2, eq 5) and prediction of
+tetanic trains.
 
 Objective (eq 5): Phi(theta) = sum_i (M_exp(t_i) - M_cal(theta, t_i))^2, moments in N m.
 
@@ -10,7 +11,7 @@ of the CE angle (``contraction.integrate_mtc``) for theta_1..5; no finite differ
 
 Confidence intervals (95 %) come from the Jacobian J (in p) at the optimum (``fit.uncertainty``, the rules
 ``Rules.for_twitch_fit``): cov(p) = s^2 (J^T J)^-1 with s^2 = Phi/(n - k), half-width t_{0.975, n-k} sqrt(cov_kk);
-the interval exp(p_k +/- half-width) is asymmetric in theta (the seed's intervals are asymmetric too). These
+the interval exp(p_k +/- half-width) is asymmetric in theta (the paper's intervals are asymmetric too). These
 intervals measure noise; how well the *data* can separate the parameters at all is measured by the variance
 inflation factor VIF_k = [C^-1]_kk, where C is the correlation-scaled J^T J (VIF = 1 for an orthogonal design).
 A parameter is flagged poorly identified when its interval spans more than ``ci_factor_limit`` (upper/lower) or
@@ -42,10 +43,10 @@ from ..fit import Rules, Uncertainty, estimate_uncertainty, levenberg_marquardt
 from .contraction import (DEFAULT_STEP_S, TEST_JOINT_ANGLE_RAD, IsometricTrace, simulate_isometric,
                           simulate_isometric_solution)
 from .excitation import check_stim_times, train_times
-from .parameters import THETA_NAMES, ActiveStateConstants, ExcitationTheta, Subject
+from ..model.hatze_parameters import THETA_NAMES, ActiveStateConstants, ExcitationTheta, Subject
 
 _DEFAULT_CONSTANTS = ActiveStateConstants()
-#: Stimulation rates of the seed's trains (Fig 7-8), Hz.
+#: Stimulation rates of the paper's trains (Fig 7-8), Hz.
 SEED_TRAIN_RATES_HZ: tuple[float, ...] = (4.0, 8.0, 12.0, 16.0, 24.0)
 
 
@@ -198,7 +199,8 @@ class TrainPrediction:
 def predict_trains(theta: ExcitationTheta, subject: Subject, rates_hz: Sequence[float] = SEED_TRAIN_RATES_HZ,
                    duration_s: float = 1.0, t_end_s: float = 1.5, step_s: float = DEFAULT_STEP_S,
                    joint_angle_rad: float = TEST_JOINT_ANGLE_RAD) -> list[TrainPrediction]:
-    """Isometric moment for trains of ``duration_s`` (s) at each rate (Hz), first stimulus at t = 0 (seed 3.2)."""
+    """Isometric moment for trains of ``duration_s`` (s) at each rate (Hz), first stimulus at t = 0 (the paper's
+    section 3.2)."""
     out = []
     for rate in rates_hz:
         tr = simulate_isometric(train_times(rate, duration_s), t_end_s, subject, theta, joint_angle_rad, step_s)

@@ -1,4 +1,5 @@
-"""The seed's "from twitch to tetanus" workflow (seed 000) in one reproducible call: ``run_twitch_to_tetanus``.
+"""The "from twitch to tetanus" workflow of van Zandwijk et al. 1998 in one reproducible call:
+``run_twitch_to_tetanus``.
 
 Steps (all SI: s, rad, N m); (b)-(e) are computed in ``sections``:
 
@@ -15,7 +16,7 @@ Steps (all SI: s, rad, N m); (b)-(e) are computed in ``sections``:
     over the peak, the model's answer to the measured negative staircase), with our theta and with Table 2's.
 (d) Trend function (eq 10) fitted to gamma(t) of eqs 6-7 at 100 Hz over a train of ``trend_window_s`` (default 5 s;
     m depends on the window, see ``excitation.fit_trend_to_full_model``), for each subject with Table 3 beside.
-    gamma does not involve the contraction parameters, and the seed publishes theta only for subject 3, so the
+    gamma does not involve the contraction parameters, and the paper publishes theta only for subject 3, so the
     rows of subjects 1, 2, 4 are computed with subject 3's theta and are *not* reproductions. c is reported on the
     raw scale of gamma in eqs 6-7 (s^4) and as x = theta5 c (dimensionless, the argument of eq 9 at xi = 1).
 (e) Rise times (10-90 % of the maximum): of the moment under q = 1 for each subject (``moment_rise_time_s``), and of
@@ -24,7 +25,7 @@ Steps (all SI: s, rad, N m); (b)-(e) are computed in ``sections``:
     unpublished, Table 3's m with x(nu = 1) = K c_Table3, K = x_3 / c_3,Table3 taken from subject 3 (assumes one
     conversion from mol/L to the dimensionless x for all subjects).
 (f) Figures (``report.write_figures``): ``twitch_fit.png``, ``trains.png``, ``trend_fit.png``, ``rise_times.png``.
-(g) ``report.json`` (all numbers, the seed's beside ours, provenance) and ``report.md`` (table
+(g) ``report.json`` (all numbers, the paper's beside ours, provenance) and ``report.md`` (table
     "quantity | ours | seed | note", ``report.render_markdown``).
 
 The inputs of (a)-(e) are one :class:`TwitchToTetanusOptions`. Bad inputs raise ``InputError`` naming the culprit;
@@ -47,14 +48,14 @@ from ..sim.provenance import versions
 from ..reports.outdir import check_out_dir, prepare_out_dir, write_text
 from .contraction import DEFAULT_STEP_S
 from .data import load_twitch
-from .parameters import Subject, check_positive, load_subject, load_subjects, load_theta
+from ..model.hatze_parameters import Subject, check_positive, load_subject, load_subjects, load_theta
 from .report import json_ready, render_markdown, write_figures
 from .sections import fit_section, rise_time_section, train_section, trend_section
 
 #: Files written into ``out_dir`` besides the figures; their presence means a report is there.
 REPORT_FILES: tuple[str, ...] = ("report.json", "report.md")
-#: Where the seed's tables and equations are decoded (relative to the repository's parent folder, ``shared/``).
-SEED_DOCUMENT: str = "shared/spec/hatze_model.md (seed 000_637b96e18aae2ab4.txt: Tables 1-4, section 3)"
+#: The paper whose tables and workflow this follows (its equations and decoded tables: docs/reference/hatze.md).
+PAPER: str = "van Zandwijk, Bobbert, Harlaar & Hof 1998, Biol Cybern 79:121-130 (Tables 1-4, section 3)"
 
 
 @dataclass(frozen=True)
@@ -117,7 +118,8 @@ def run_twitch_to_tetanus(out_dir: str | Path, options: TwitchToTetanusOptions |
     rise = rise_time_section(subjects, trend_t2, table2, m_fit=trend["fitted_theta"]["m_per_s"],
                              x_fit=trend["fitted_theta"]["x_theta5_c"], step_s=opts.step_s)
     report = json_ready({
-        "workflow": "seed 000 'from twitch to tetanus' (neuromuscle.hatze.workflow.run_twitch_to_tetanus)",
+        "workflow": "'from twitch to tetanus' of van Zandwijk et al. 1998 "
+                    "(neuromuscle.hatze.workflow.run_twitch_to_tetanus)",
         "twitch": twitch.info, "fit": fit_sec, "trains": trains, "trend": trend, "rise_times": rise,
         "provenance": _provenance(opts, subj)})
     out = prepare_out_dir(out_dir, overwrite, REPORT_FILES)
@@ -138,4 +140,4 @@ def _provenance(opts: TwitchToTetanusOptions, subj: Subject) -> dict[str, Any]:
                        "frozen": list(opts.frozen), "start_factors": opts.start_factors,
                        "max_evaluations": opts.max_evaluations, "train_duration_s": opts.train_duration_s,
                        "train_t_end_s": opts.train_t_end_s},
-            "seed_document": SEED_DOCUMENT}
+            "paper": PAPER}

@@ -39,7 +39,6 @@ Preprocessing (units: s, mm, N):
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Sequence
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""Measured muscle data in the layout of /work/shared/spec/measured_data.md (times in s, force in N or N*m,
+"""Measured muscle data in the layout of docs/reference/data-format.md (times in s, force in N or N*m,
 length in mm or rad): the objects, their validator, HDF5 reading and writing, CSV import and a summary.
 
 ``schema`` holds the layout and the objects, ``validate`` every rule (one validator that the reader, the writer,

@@ -8,7 +8,8 @@ C1, C2, C3, alpha from CT09 should find ``TRUE_VALUES``.  All of this is written
 and the ``/provenance`` group).  tests/measured/test_example.py checks that the shipped file equals a new one;
 after a change of the model's numbers, write it again::
 
-    python -c "from neuromuscle.measured import example_path, write_example; write_example(example_path(), overwrite=True)"
+    from neuromuscle.measured import example_path, write_example
+    write_example(example_path(), overwrite=True)
 """
 
 from __future__ import annotations
@@ -54,7 +55,7 @@ def example_data(true_values: Mapping[str, float] = TRUE_VALUES, seed: int = SEE
                  noise_N: float = NOISE_N) -> MeasuredData:
     """The example preparation in memory: ``PROTOCOLS`` simulated from BASE with ``true_values`` (parameter
     units) plus Gaussian noise of sd noise_N (N) from ``seed``, with its provenance attributes."""
-    from ..fit import synthetic_trial  # fit builds on measured: imported when data are made, not at import
+    from .simulation import synthetic_trial  # loads NEURON: imported when data are made, not at import
     from ..parameters import SPECS, load_parameters
 
     params = load_parameters(BASE).with_values(true_values)

@@ -1,4 +1,4 @@
-"""Reading and writing measured-data HDF5 files (layout: /work/shared/spec/measured_data.md; times in s).
+"""Reading and writing measured-data HDF5 files (layout: docs/reference/data-format.md; times in s).
 
 A file is opened read-only and never modified; writing goes to a temporary name beside the target and is moved
 into place, refusing an existing file unless asked and always refusing the file the data were read from.

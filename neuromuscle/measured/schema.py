@@ -1,4 +1,4 @@
-"""The measured-data layout of /work/shared/spec/measured_data.md: names, units and the in-memory objects.
+"""The measured-data layout of docs/reference/data-format.md: names, units and the in-memory objects.
 
 Units: time in **seconds** (never ms), force in N (or N*m for a joint moment), length in mm (or rad for a joint
 angle), as a trial's ``force_unit`` / ``length_unit`` say.

@@ -1,4 +1,4 @@
-"""The validator of measured data (/work/shared/spec/measured_data.md): every rule, all problems at once.
+"""The validator of measured data (docs/reference/data-format.md): every rule, all problems at once.
 
 :func:`find_problems` checks the in-memory objects; the reader (after its file-level checks), the writer, CSV
 import and the literature loaders all go through it. Every problem names the file (``source``), the trial and

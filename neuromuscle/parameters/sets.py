@@ -62,7 +62,7 @@ class ParameterSet(Mapping[str, float]):
     def __len__(self) -> int:
         return len(self.values)
 
-    def with_values(self, changes: Mapping[str, float] | None = None, /, **kw: float) -> "ParameterSet":
+    def with_values(self, changes: Mapping[str, float] | None = None, /, **kw: float) -> ParameterSet:
         """A copy with some values replaced (flat or qualified names, same units); unknown names and values
         outside their range raise InputError naming them."""
         reg = registry()

@@ -2,7 +2,7 @@
 
 Built from the component declarations (``neuromuscle.model``), so a new component or extension adds its
 parameters here by existing.  Names are namespaced by component (``kim_m2.C1``, ``hatze_exc.theta1``); the flat
-names of seed 001 Table 1 (``C1``, ``P0``, ...) used by the shipped CT09/CT95 files and by the fitting API are
+names of Table 1 of Kim et al. 2015 (``C1``, ``P0``, ...) used by the shipped CT09/CT95 files and by the fitting API are
 aliases of the Kim modules' qualified names.
 """
 

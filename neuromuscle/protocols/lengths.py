@@ -1,4 +1,5 @@
-"""Length inputs: the LengthTrace Xm(t) (mm) NEURON plays into a MuscleLength, and the seed's length protocols.
+"""Length inputs: the LengthTrace Xm(t) (mm) NEURON plays into a MuscleLength, and the length protocols of
+Kim et al. 2015.
 
 Length protocols return LengthTrace objects sampled from 0 ms to (at least) the requested duration, with Xm in mm
 relative to the physiological maximum and velocity in mm/s (positive = lengthening).  Random protocols take an
@@ -66,7 +67,7 @@ class LengthTrace:
         object.__setattr__(self, "onset_ms", onset)
 
     @classmethod
-    def isometric(cls, xm_mm: float, duration_ms: float) -> "LengthTrace":
+    def isometric(cls, xm_mm: float, duration_ms: float) -> LengthTrace:
         """A constant length xm_mm (mm) from 0 to duration_ms (ms)."""
         if not np.isfinite(xm_mm):
             raise InputError(f"isometric length {xm_mm} mm is not finite")
@@ -91,7 +92,7 @@ class LengthTrace:
         return np.interp(t_ms, self.t_ms, self.velocity_mm_s)
 
 
-def as_length_trace(length: "LengthTrace | float", duration_ms: float) -> "LengthTrace":
+def as_length_trace(length: LengthTrace | float, duration_ms: float) -> LengthTrace:
     """A LengthTrace covering 0..duration_ms (ms) from a trace or a constant length (mm); InputError otherwise."""
     if isinstance(length, LengthTrace):
         trace = length

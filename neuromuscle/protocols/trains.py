@@ -1,4 +1,4 @@
-"""Stimulus trains of the seed's protocols: sorted float64 arrays of spike times (ms).
+"""Stimulus trains of the protocols of Kim et al. 2015: sorted float64 arrays of spike times (ms).
 
 Random trains take an explicit integer ``seed`` (fed to ``numpy.random.default_rng``): the same seed gives the
 same train, and the caller records it.
@@ -38,7 +38,7 @@ def random_interval(mean_interval_ms: float, duration_ms: float, seed: int,
                     start_ms: float = 500.0) -> np.ndarray:
     """Spikes (ms) from ``start_ms`` with inter-pulse intervals uniform on [10 ms, 2 * mean_interval_ms].
 
-    Follows the seed's wording literally, so the intervals average ``mean_interval_ms + 5`` ms.  Spikes stop
+    Follows the paper's wording literally, so the intervals average ``mean_interval_ms + 5`` ms.  Spikes stop
     before ``start_ms + duration_ms``.  The k-th interval depends only on ``seed`` (not on the duration).
     """
     mean = finite_number("mean_interval_ms", mean_interval_ms)

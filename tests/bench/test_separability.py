@@ -48,7 +48,7 @@ def test_the_post_tetanic_probes_hold_relaxation_signal_the_refits_cannot_absorb
     most of it on the probes, and the relaxation extension takes most of that (measured 72 %)."""
     base = ["twitch_opt", "train10_opt", "train100_opt"]
     std = separability("relaxation_rate", 0.9, 5, 1.5, trials=base)
-    ext = separability("relaxation_rate", 0.9, 5, 1.5, trials=[*base, "post_tetanic100_opt"], protocols="extended")
+    ext = separability("relaxation_rate", 0.9, 5, 1.5, trials=[*base, "post_tetanic100_opt"], world="B")
     assert ext.chi2_unabsorbed > 4 * std.chi2_unabsorbed
     assert list(ext.trials)[0] == "post_tetanic100_opt"
     assert ext.trials["post_tetanic100_opt"][1] > 0.5 * ext.chi2_unabsorbed

@@ -10,6 +10,8 @@ from neuromuscle.cli import main
 
 ARGS = ["bench", "sweep", "--draws", "6", "--short", "--quiet", "--json"]
 
+pytestmark = pytest.mark.slow  # 6 draws x 14 runs; the sweep's parts have fast tests of their own (test_sweep_*.py)
+
 
 @pytest.fixture(scope="module")
 def sweep_folder(tmp_path_factory):

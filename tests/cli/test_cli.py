@@ -6,6 +6,8 @@ import h5py
 
 import math
 
+import pytest
+
 from neuromuscle.bench.unit import bench_unit
 from neuromuscle.cli import main
 
@@ -67,6 +69,7 @@ def test_info_names_versions_mechanism_hash_and_cache(capsys):
     assert doc["versions"]["neuron"] and isinstance(doc["mpi4py_installed"], bool)
 
 
+@pytest.mark.slow  # a full nrnivmodl compile into a fresh cache (about a minute); every fresh run compiles once anyway
 def test_first_use_compiles_with_a_message_and_progress(tmp_path):
     """A fresh cache: nrnivmodl runs, and stderr says so before and after (with elapsed-time lines while it
     takes longer than the progress interval)."""

@@ -113,15 +113,16 @@ def test_readme_block_runs_as_written(block, readme_runs):
     if block.skipped:
         pytest.skip(f"{block.name}: marked '{SKIP_MARK}'")
     out = readme_runs[block]
-    assert out.returncode == 0, f"{block.name} failed:\n{block.code}\n--- stdout\n{out.stdout}\n--- stderr\n{out.stderr}"
+    assert out.returncode == 0, \
+        f"{block.name} failed:\n{block.code}\n--- stdout\n{out.stdout}\n--- stderr\n{out.stderr}"
     if block.language == "hoc":
         assert HOC_DONE in out.stdout, out.stdout + out.stderr
 
 
 def test_the_hoc_route_makes_the_force_python_makes(readme_folder, readme_runs, ct09):
     """The README's hoc unit, as written, in the folder where the README ran ``nrnivmodl mod`` (plain nrnivmodl, not
-    the package's cache), given one spike at 100 ms: its twitch peak at -8 mm is ``simulate``'s within 0.2 %.  (Until
-    stop 42 a test of tests/mod compiled the mod folder once more for this, with its own copy of the wiring.)"""
+    the package's cache), given one spike at 100 ms: its twitch peak at -8 mm is ``simulate``'s within 0.2 %.  (One
+    compiled folder and one copy of the wiring: the README's.)"""
     assert readme_runs, "the README's blocks ran"
     _compiled(readme_folder)
     (hoc_block,) = [b for b in BLOCKS if b.language == "hoc"]
@@ -179,3 +180,11 @@ def test_python_fit_and_fit_command_print_the_same_estimates(readme_runs):
     assert from_python == from_cli, f"Python:\n{python_fit[0].stdout}\nCLI:\n{cli_fit[0].stdout}"
     for name, (estimate, _, _) in from_cli.items():  # and they find the example's true values
         assert float(estimate) == pytest.approx(TRUE_VALUES[name], rel=0.01), name
+
+
+def test_ci_runs_command_2_as_written():
+    """.ci/run runs the README's command 2 verbatim: whatever CI checks runs inside that command."""
+    setup = next(b for b in BLOCKS if b.skipped)
+    command_2 = [ln for ln in setup.code.splitlines() if ln.startswith(SETUP_STEPS[0])][1]
+    assert "[test,mpi,docs]" in command_2 and command_2.endswith("python -m pytest -q"), command_2
+    assert command_2 in (README.parent / ".ci" / "run").read_text().splitlines()

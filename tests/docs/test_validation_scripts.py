@@ -1,4 +1,5 @@
-"""The scripts behind docs/validation.md run as the page says and print tables that parse.
+"""The scripts behind the validation pages (docs/validation/accuracy.md, published.md) run as the pages say and
+print tables that parse.
 
 compare_published.py needs the authors' published code, which CI does not have: it runs only when
 NEUROMUSCLE_PUBLISHED names a folder holding it (e.g. a checkout of ModelDB 266732).

@@ -1,4 +1,4 @@
-"""Triceps surae contraction dynamics (seed 000, eqs 1-2): element relations, integration against an
+"""Triceps surae contraction dynamics (van Zandwijk et al. 1998, eqs 1-2): element relations, integration against an
 independent solve_ivp, step convergence, sensitivities, rise time, bad inputs."""
 
 import math
@@ -13,7 +13,7 @@ from neuromuscle.hatze.contraction import (ce_moment_at_velocity, ce_velocity, e
                                            moment_rise_time_s, see_extension_at_test, see_moment,
                                            simulate_isometric, simulate_isometric_solution)
 from neuromuscle.hatze.excitation import PULSE_DURATION_S, active_state, excitation_rhs, train_times
-from neuromuscle.hatze.parameters import THETA_NAMES, ExcitationTheta
+from neuromuscle.model.hatze_parameters import THETA_NAMES, ExcitationTheta
 from neuromuscle.hatze.twitch_fit import twitch_moment
 
 

@@ -1,4 +1,4 @@
-"""Hatze excitation dynamics (seed 000, eqs 6-10) and the parameter tables (Tables 1-4)."""
+"""Hatze excitation dynamics (van Zandwijk et al. 1998, eqs 6-10) and the parameter tables (Tables 1-4)."""
 
 import json
 import math
@@ -12,7 +12,7 @@ from neuromuscle.hatze.excitation import (PULSE_DURATION_S, active_state, active
                                           alpha_input, excitation_matrix, excitation_rhs, excitation_states,
                                           fit_trend, fit_trend_to_full_model, rho_star, rho_star_derivative,
                                           simulate_excitation, steady_gamma_mean, train_times, trend_gamma)
-from neuromuscle.hatze.parameters import (ActiveStateConstants, ExcitationTheta, active_state_from_json,
+from neuromuscle.model.hatze_parameters import (ActiveStateConstants, ExcitationTheta, active_state_from_json,
                                           load_active_state_constants, load_subject, load_subjects, load_theta,
                                           load_theta_intervals, load_trend_table, subjects_from_json,
                                           theta_intervals_from_json, trend_table_from_json)
@@ -44,7 +44,8 @@ def test_tables_hold_the_seed_values():
 
 def _table1_doc():
     return {"shared": {"w": {"value": 0.56, "unit": "1"}},
-            "subjects": {"9": {"k_see": {"value": 400, "unit": "N*m/rad^2"}, "phi_ce_opt": {"value": 1.2, "unit": "rad"},
+            "subjects": {"9": {"k_see": {"value": 400, "unit": "N*m/rad^2"},
+                               "phi_ce_opt": {"value": 1.2, "unit": "rad"},
                                "m_max": {"value": 50, "unit": "N*m"}, "a_rel": {"value": 0.2, "unit": "1"},
                                "b_rel": {"value": 1.5, "unit": "Hz"}}}}
 
@@ -253,7 +254,7 @@ def test_trend_fit_recovers_synthetic_parameters():
 def test_trend_fit_to_full_model_subject3():
     """Table 3 (subject 3): m = 7.94 (7.90-7.96) 1/s. Finding: m depends on the fit window because gamma of the
     full model rises like a critically damped pair (slow roots 15.94 and 15.80 1/s), not exponentially. Fitted to
-    a 1 s train (the seed's train duration) m = 7.63; the fit approaches Table 3 as the window grows (7.85 at 2 s,
+    a 1 s train (the paper's train duration) m = 7.63; the fit approaches Table 3 as the window grows (7.85 at 2 s,
     7.89 at 3 s, 7.93 at 5 s, 7.95 at 10 s): Table 3 is reproduced with windows of about 3-10 s."""
     one_s = fit_trend_to_full_model(THETA, 100.0, 1.0, dt_s=5e-4)
     assert one_s.params.m == pytest.approx(7.63, abs=0.01)

@@ -1,4 +1,4 @@
-"""Hatze's muscle-tendon complex as an NMODL mechanism (HatzeMTC, mod/hatze_mtc.mod): driven by HatzeExc it
+"""Hatze's muscle-tendon complex as an NMODL mechanism (HatzeMTC, mod/HatzeMTC.mod): driven by HatzeExc it
 reproduces neuromuscle.hatze.contraction's isometric moment, fixed step and CVODE."""
 
 import gc
@@ -12,7 +12,7 @@ from neuromuscle.hatze.contraction import (equilibrium_phi_ce, moment_rise_time_
                                            see_extension_at_test, simulate_release,
                                            simulate_active_state_drive, simulate_isometric)
 from neuromuscle.hatze.excitation import rise_time_s
-from neuromuscle.hatze.parameters import load_subject, load_theta
+from neuromuscle.model.hatze_parameters import load_subject, load_theta
 
 REC_MS = 0.5          # record interval = Python's RK4 step (0.5 ms), so samples coincide
 T_END_S = 0.6
@@ -61,9 +61,9 @@ def run_stimulated(h, stims_s, t_end_s, subject, theta, method, length_dependent
     nc.weight[0] = 1.0
     times = [float(s) * 1000.0 for s in stims_s]
 
-    def queue():
+    def queue():  # runs at finitialize, before the finally block deletes nc
         for tt in times:
-            nc.event(tt)
+            nc.event(tt)  # noqa: F821
 
     fih = h.FInitializeHandler(queue)
     recs = {k: h.Vector() for k in ("M", "phi", "q")}
@@ -92,8 +92,8 @@ def run_constant_activation(h, q, t_end_s, subject, q_initial, method, offset_ra
     mtc.phi_mtc_offset = offset_rad
     h.setpointer(holder._ref_xm, "act", mtc)
 
-    def step_q():
-        holder.xm = q
+    def step_q():  # runs at finitialize, before the finally block deletes holder
+        holder.xm = q  # noqa: F821
 
     fih = h.FInitializeHandler(1, step_q)   # type 1: after the INITIAL blocks, before CVODE's re-init
     rec = h.Vector()

@@ -6,7 +6,7 @@ import pytest
 
 from neuromuscle import InputError, simulate
 from neuromuscle.hatze.excitation import simulate_excitation
-from neuromuscle.hatze.parameters import load_theta
+from neuromuscle.model.hatze_parameters import load_theta
 
 STIMS_S = np.array([0.05, 0.15, 0.16, 0.2])
 
@@ -26,7 +26,7 @@ def test_active_state_matches_exact_solution(ct09, exact, method, tol):
     assert np.max(np.abs(r["act.g"][:n] - gamma[:n])) < 2 * tol * gamma.max()  # gamma (s^4), by its name
     assert r.settings["model"]["act"]["component"] == "HatzeExcitation" and r.ca_M == {}
     with pytest.raises(InputError, match="no trace 'act.atil'"):
-        r.atil  # Hatze's excitation has no Atil: nothing else is passed off under that name
+        r.atil  # noqa: B018 (Hatze's excitation has no Atil: nothing else is passed off under that name)
 
 
 def test_hatze_activation_drives_module_3(ct09):

@@ -1,14 +1,14 @@
-"""Self-consistent calculation (seed 000, eqs 3-4) on synthesised isokinetic releases."""
+"""Self-consistent calculation (van Zandwijk et al. 1998, eqs 3-4) on synthesised isokinetic releases."""
 
 import numpy as np
 import pytest
 
 from neuromuscle.errors import InputError
 from neuromuscle.hatze.contraction import simulate_release
-from neuromuscle.hatze.parameters import load_subject
+from neuromuscle.model.hatze_parameters import load_subject
 from neuromuscle.hatze.scc import Release, self_consistent_calculation
 
-VELOCITIES = (3.0, 5.0, 10.0, 15.0)                 # rad/s, as in the seed's Fig 3
+VELOCITIES = (3.0, 5.0, 10.0, 15.0)                 # rad/s, as in the paper's Fig 3
 
 
 def _releases(subject, velocities=VELOCITIES, **kw):

@@ -1,11 +1,12 @@
-"""Twitch fit of theta (seed 000, eq 5; neuromuscle.hatze.twitch_fit): intervals and flags, train predictions."""
+"""Twitch fit of theta (van Zandwijk et al. 1998, eq 5; neuromuscle.hatze.twitch_fit): intervals and flags, train
+predictions."""
 
 import numpy as np
 import pytest
 from hatze_twitch_data import S3, STIM, T_DATA, THETA
 
 from neuromuscle.errors import InputError
-from neuromuscle.hatze.parameters import THETA_NAMES, ExcitationTheta, load_theta_intervals
+from neuromuscle.model.hatze_parameters import THETA_NAMES, ExcitationTheta, load_theta_intervals
 from neuromuscle.hatze.twitch_fit import fit_twitch, predict_trains, twitch_moment
 
 
@@ -43,7 +44,7 @@ def test_free_fit_reproduces_twitch_but_cannot_place_theta1(twitch):
 def test_fit_with_theta1_fixed_recovers_table2(twitch, factors):
     """theta1 held at Table 2 (the twitch carries no information on it); theta2..theta5 start perturbed by
     factors 0.5-2 and are recovered - to Table 2 or to its twin with the two slow roots swapped between eqs 6
-    and 7, which gives the very same twitch - all inside the seed's 95 % intervals."""
+    and 7, which gives the very same twitch - all inside the paper's 95 % intervals."""
     start = ExcitationTheta.from_array(THETA.as_array() * np.array([1.0, *factors]))
     fit = fit_twitch(T_DATA, twitch, STIM, S3, start, frozen=("theta1",), max_evaluations=80)
     assert fit.rms_nm < 1e-7 * twitch.max()
@@ -59,7 +60,7 @@ def test_fit_with_theta1_fixed_recovers_table2(twitch, factors):
 def test_confidence_intervals_with_noise(twitch):
     """Noise of 0.05 N m, theta1 fixed: the mean slow rate and the gain stay well determined, but the split
     between the two nearly equal slow roots (it enters the twitch only squared) and the fast root of eq 7
-    (a ~54 us delay) are lost in the noise, so theta2..theta5 get intervals far wider than the seed's and are
+    (a ~54 us delay) are lost in the noise, so theta2..theta5 get intervals far wider than the paper's and are
     flagged; the intervals cover the truth."""
     rng = np.random.default_rng(7)
     noisy = twitch + rng.normal(0.0, 0.05, twitch.size)

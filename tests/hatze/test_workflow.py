@@ -7,7 +7,7 @@ import pytest
 
 from neuromuscle.cli import main
 from neuromuscle.errors import InputError
-from neuromuscle.hatze.parameters import THETA_NAMES, load_subject, load_theta, load_theta_intervals
+from neuromuscle.model.hatze_parameters import THETA_NAMES, load_subject, load_theta, load_theta_intervals
 from neuromuscle.hatze.data import read_twitch_csv, synthetic_twitch
 from neuromuscle.hatze.report import FIGURES
 from neuromuscle.hatze.workflow import run_twitch_to_tetanus
@@ -21,6 +21,7 @@ def run(tmp_path_factory):
     return out, rc
 
 
+@pytest.mark.slow  # the module's full workflow run (tens of seconds); test_overwrite_and_csv_input runs it too
 def test_command_runs_end_to_end(run):
     out, rc = run
     assert rc == 0  # (its wall time is a benchmark's business, not a test's)
@@ -31,9 +32,10 @@ def test_command_runs_end_to_end(run):
     prov = rep["provenance"]
     assert prov["inputs"]["seed"] == 0 and "numpy" in prov["versions"] and "matplotlib" in prov["versions"]
     md = (out / "report.md").read_text()
-    assert "| quantity | ours | seed | note |" in md and "synthetic" in md
+    assert "| quantity | ours | paper | note |" in md and "synthetic" in md
 
 
+@pytest.mark.slow  # the module's full workflow run (tens of seconds); test_overwrite_and_csv_input runs it too
 def test_fitted_theta_inside_seed_intervals(run):
     rep = json.loads((run[0] / "report.json").read_text())
     params = rep["fit"]["parameters"]
@@ -49,6 +51,7 @@ def test_fitted_theta_inside_seed_intervals(run):
     assert len(sv) == 5 and sv[0] > 100 and sv[-1] < 1e-4                      # theta1 direction is empty
 
 
+@pytest.mark.slow  # the module's full workflow run (tens of seconds); test_overwrite_and_csv_input runs it too
 def test_trend_and_rise_times_reported_beside_seed(run):
     rep = json.loads((run[0] / "report.json").read_text())
     s3 = rep["trend"]["subjects"]["3"]
@@ -65,6 +68,7 @@ def test_trend_and_rise_times_reported_beside_seed(run):
     assert [r["rate_hz"] for r in rep["trains"]["rows"]] == [4, 8, 12, 16, 24] and np.all(np.diff(peaks) > 0)
 
 
+@pytest.mark.slow  # the module's full workflow run (tens of seconds); test_overwrite_and_csv_input runs it too
 def test_rerun_without_overwrite_is_refused(run, capsys):
     out = run[0]
     before = (out / "report.json").read_text()

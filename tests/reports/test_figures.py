@@ -16,7 +16,7 @@ from neuromuscle.hatze.report import FIGURES  # noqa: E402
 from neuromuscle.hatze.workflow import run_twitch_to_tetanus  # noqa: E402
 from neuromuscle.measured import write_measured  # noqa: E402
 from neuromuscle.reports.figures import label_axes, new_figure, readable_title, save_figure  # noqa: E402
-from neuromuscle.reports.fit import run_fit  # noqa: E402
+from neuromuscle.calibration.report import run_fit  # noqa: E402
 
 UNIT = re.compile(r"\(.+\)")
 

@@ -11,7 +11,7 @@ Writes into DIR:
 * ``figures/<trial>.png``  measured vs simulated force and the residual, per fitted trial.
 
 Default mode: one :func:`~neuromuscle.fit.fit` of the ``--free`` parameters (default C1, C2, C3, alpha)
-to every stimulated trial in N and mm (or ``--trials``).  ``--staged``: the seed's staged calibration
+to every stimulated trial in N and mm (or ``--trials``).  ``--staged``: the staged calibration of Kim et al. 2015
 (:func:`~neuromuscle.calibration.staged_calibration`); the intervals are those of its Module 2 stage, and the
 figures/NRMSE use the final parameters.
 """
@@ -24,15 +24,16 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from ..calibration import MODULE2_FREE, StagedCalibration, staged_calibration
 from ..errors import InputError
 from ..fit import INTERVAL_METHODS, FitProblem, FitResult, SimulationOptions, describe_method, fit, trial_simulation
 from ..analysis.metrics import nrmse_percent
 from ..measured import MeasuredData, Trial, read_measured
 from ..parameters import SPECS, ParameterSet, load_parameters
-from .figures import fit_figure, legend, mark_times, save_figure, set_title
-from .markdown import bullets, interval, link, sig, table
-from .outdir import atomic_path, check_out_dir, prepare_out_dir, write_text
+from ..reports.figures import fit_figure, legend, mark_times, save_figure, set_title
+from ..reports.markdown import bullets, interval, link, sig, table
+from ..reports.outdir import atomic_path, check_out_dir, prepare_out_dir, write_text
+from .module2 import MODULE2_FREE
+from .staged import StagedCalibration, staged_calibration
 
 #: The files whose presence in ``out_dir`` means a report is there (kept unless overwrite).
 REPORT_FILES: tuple[str, ...] = ("params.json", "fit.json", "summary.md")

@@ -6,7 +6,6 @@ import json
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "calibration"))
@@ -82,7 +81,7 @@ def test_existing_report_is_not_overwritten(tmp_path):
     out.mkdir()
     (out / "fit.json").write_text("{}")
     from neuromuscle.errors import InputError
-    from neuromuscle.reports.fit import run_fit
+    from neuromuscle.calibration.report import run_fit
 
     with pytest.raises(InputError, match="refusing to overwrite"):
         run_fit(tmp_path / "absent.h5", out)
