@@ -1,4 +1,4 @@
-"""Recompute the accuracy table of docs/validation.md: the NEURON mechanisms (fixed step and CVODE) against the
+"""Recompute the accuracy table of docs/validation/accuracy.md: the NEURON mechanisms (fixed step and CVODE) against the
 independent SciPy Radau integration of the same equations (neuromuscle/reference.py) and the spec's values.
 
 Run from the repository root:  python docs/validation/accuracy.py [--quick]
@@ -134,7 +134,7 @@ def largest_deviation(rows: list[Row], against: str) -> tuple[float, str]:
 
 
 def report(quick: bool) -> str:
-    """The Markdown block pasted into docs/validation.md."""
+    """The Markdown block pasted into docs/validation/accuracy.md."""
     twitches, trains = spec_values()
     cases = list(twitches.items())[:1] if quick else list(twitches.items())
     rows = [twitch_row(name, x, st, spec) for (name, x, st), spec in cases]

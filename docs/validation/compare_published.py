@@ -216,7 +216,7 @@ def _range(values: np.ndarray, digits: int = 4) -> str:
 
 
 def compare(published: Path, units: int, duration_ms: float, reference: bool) -> str:
-    """Run everything and return the Markdown block pasted into docs/validation.md."""
+    """Run everything and return the Markdown block pasted into docs/validation/published.md."""
     if duration_ms < PLATEAU_MS[1]:
         raise SystemExit(f"--duration-ms must be at least {PLATEAU_MS[1]:g} ms (the plateau window ends there)")
     folder = find_published(published)
