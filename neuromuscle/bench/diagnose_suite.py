@@ -30,11 +30,14 @@ import sys
 import time
 import zlib
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
 from ..errors import InputError, NumericalError
+
+if TYPE_CHECKING:
+    from ..diagnose.evidence import Evidence
 
 #: Strength (fraction of the effect's amplitude range) of the suite's draws.
 STRENGTH_RANGE = (0.25, 1.0)
@@ -184,6 +187,16 @@ def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
                         "both_named_pct": ">= 80"}}
 
 
+def _evidence_row(ev: Evidence) -> dict[str, Any]:
+    """A candidate's evidence in a suite row: gains, excess, window and the rules it failed."""
+    share, window = ev.share_of_baseline_excess, ev.window_chi2_gain
+    return {"chi2_gain": round(ev.chi2_gain, 1), "score": round(ev.score, 1), "excess": round(ev.excess, 1),
+            "excess_removed": round(ev.excess_removed, 3),
+            "share_of_baseline_excess": None if share is None else round(share, 3),
+            "window": ev.window_how, "window_chi2_gain": None if window is None else round(window, 1),
+            "structured_before": len(ev.structured_before), "failed": sorted(ev.failed)}
+
+
 def run_case(case: SuiteCase, workers: int) -> dict[str, Any]:
     """Make and diagnose one case blind; its record (draw, named, per-step candidates, score, wall time)."""
     from ..diagnose.diagnosis import diagnose_data
@@ -199,25 +212,19 @@ def run_case(case: SuiteCase, workers: int) -> dict[str, Any]:
         d = diagnose_data(without_truth(data), workers=workers)
     except (InputError, NumericalError) as e:  # one case's failure is recorded, and the suite goes on
         return {**row, "error": str(e), "named": [], "wall_s": round(time.perf_counter() - t0, 1)}
-    passed = [s.named for s in d.steps if s.named is not None]
+    passed = [n for s in d.steps for n in s.named_causes]
     sd = float(truth(data)["noise_sd_N"])
     ratio = {i: float(np.sqrt(np.mean((d.baseline.simulated[i] - data.trials[i].force) ** 2))) / sd
              for i in d.split.heldout} if sd > 0 else {}
     row.update({
         "named": d.named, "verdict": d.verdict,
-        "steps": [{"named": s.named,
-                   "candidates": {n: {"chi2_gain": round(c.evidence.chi2_gain, 1), "score": round(c.evidence.score, 1),
-                                      "excess": round(c.evidence.excess, 1),
-                                      "excess_removed": round(c.evidence.excess_removed, 3),
-                                      "share_of_baseline_excess": (
-                                          None if c.evidence.share_of_baseline_excess is None else
-                                          round(c.evidence.share_of_baseline_excess, 3)),
-                                      "window": c.evidence.window_how,
-                                      "window_chi2_gain": (None if c.evidence.window_chi2_gain is None else
-                                                           round(c.evidence.window_chi2_gain, 1)),
-                                      "structured_before": len(c.evidence.structured_before),
-                                      "failed": sorted(c.evidence.failed)}
-                                  for n, c in s.candidates.items() if c.evidence is not None},
+        "steps": [{"named": s.named_causes,
+                   "candidates": {n: _evidence_row(c.evidence) for n, c in s.candidates.items()
+                                  if c.evidence is not None},
+                   "joint": (None if s.joint is None else
+                             {"names": list(s.joint.names), "passed": s.joint.passed,
+                              "evidence": {n: _evidence_row(e) for n, e in s.joint.evidence.items()},
+                              "seconds": round(s.joint.model.wall_s, 1)}),
                    "screening": {n: round(c.screen.score, 1) for n, c in s.candidates.items()
                                  if c.screen is not None},
                    "seconds": {"screening": round(s.screen_s, 1),

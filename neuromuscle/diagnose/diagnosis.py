@@ -111,7 +111,7 @@ def diagnose_data(data: MeasuredData, *, heldout: Sequence[str] | None = None, b
                                        variables)
         steps = select(ctx, baseline.model, **({} if max_steps is None else {"max_steps": max_steps}))
         final = steps[-1].after if steps else baseline.model
-        named = [s.named for s in steps if s.named is not None]
+        named = [n for s in steps for n in s.named_causes]
         ids = list(data.trials)
         structured = structured_trials(measured, final.simulated, baseline.noise, ids)
         active = structured_trials(measured, final.simulated, baseline.noise, ids, ACTIVE_STRUCTURE_RATIO)

@@ -17,6 +17,7 @@ Writes into DIR (refused when DIR already holds a report, unless overwrite; chec
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -104,14 +105,24 @@ def _candidate_json(d: Diagnosis, s: Step, c: Candidate) -> dict[str, Any]:
     return out
 
 
+def _named_json(d: Diagnosis, s: Step, name: str) -> dict[str, Any]:
+    """Named cause ``name`` of step ``s``: its candidate entry with the evidence that named it (for two causes
+    named together, against the model with the other one alone)."""
+    c = replace(s.candidates[name], model=s.model_of(name), evidence=s.evidence_of(name))
+    out = _candidate_json(d, replace(s, before=s.before_of(name)), c)
+    if s.named_jointly:
+        out["named_with"] = s.joint.other(name)
+    return out
+
+
 def _causes(d: Diagnosis) -> list[dict[str, Any]]:
     """Every fitted candidate, the named causes first in their order, then the others of the first step by
     score; each with its evidence against the model before it."""
     out, seen = [], set()
     for s in d.steps:
-        if s.named is not None:
-            out.append({**_candidate_json(d, s, s.candidates[s.named]), "step": s.index, "named": True})
-            seen.add(s.named)
+        for n in s.named_causes:
+            out.append({**_named_json(d, s, n), "step": s.index, "named": True})
+            seen.add(n)
     first = d.steps[0] if d.steps else None
     if first is not None:
         rest = [c for c in first.candidates.values() if c.fitted and c.name not in seen]
@@ -120,13 +131,24 @@ def _causes(d: Diagnosis) -> list[dict[str, Any]]:
     return out
 
 
+def _joint_json(d: Diagnosis, s: Step) -> dict[str, Any] | None:
+    """The pair fitted together at step ``s`` (none when a candidate passed alone): each one's evidence against
+    the model with the other alone."""
+    if s.joint is None:
+        return None
+    j = s.joint
+    return {"names": list(j.names), "passed": j.passed, "model": _model_json(d, j.model),
+            "evidence": {n: {"beside": j.other(n), "evidence": e.text(), "statistics": e.to_json()}
+                         for n, e in j.evidence.items()}}
+
+
 def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dict[str, Any]:
     """The content of diagnosis.json."""
     named = []
     for s in d.steps:
-        if s.named is not None:
-            ev = s.candidates[s.named].evidence
-            named.append({"name": s.named, "step": s.index, "heldout_chi2_gain": ev.chi2_gain,
+        for n in s.named_causes:
+            ev = s.evidence_of(n)
+            named.append({"name": n, "step": s.index, "heldout_chi2_gain": ev.chi2_gain,
                           "bic_penalty": ev.bic_penalty, "excess_removed": ev.excess_removed,
                           "nrmse_heldout_before": ev.nrmse_before, "nrmse_heldout_after": ev.nrmse_after})
     b = d.baseline
@@ -134,8 +156,9 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
     return {
         "schema": SCHEMA, "data": data_path, "verdict": d.verdict, "named": d.named, "named_detail": named,
         "causes": _causes(d),
-        "steps": [{"step": s.index, "model_before": _model_json(d, s.before), "named": s.named,
-                   "candidates": [_candidate_json(d, s, c) for c in s.candidates.values()]} for s in d.steps],
+        "steps": [{"step": s.index, "model_before": _model_json(d, s.before), "named": s.named_causes,
+                   "candidates": [_candidate_json(d, s, c) for c in s.candidates.values()],
+                   "together": _joint_json(d, s)} for s in d.steps],
         "untestable": ([{"name": c.name, "reason": c.untestable} for c in first.candidates.values() if c.untestable]
                        if first is not None else []),
         "baseline": {"nrmse": {i: nrmse_percent(t.force, b.simulated[i]) for i, t in d.data.trials.items()},
@@ -163,13 +186,13 @@ def _safe(tid: str) -> str:
     return "".join(c if c.isalnum() or c in "-_." else "_" for c in tid)
 
 
-def _deciding(d: Diagnosis, s: Step) -> list[str]:
-    """The held-out trials where the named cause of step ``s`` gained most."""
-    c = s.candidates[s.named]
+def _deciding(d: Diagnosis, s: Step, name: str) -> list[str]:
+    """The held-out trials where named cause ``name`` of step ``s`` gained most."""
+    before, after = s.before_of(name), s.model_of(name)
     measured = {i: np.asarray(d.data.trials[i].force, dtype=float) for i in d.split.heldout}
 
     def gain(i: str) -> float:
-        e0, e1 = s.before.simulated[i] - measured[i], c.model.simulated[i] - measured[i]
+        e0, e1 = before.simulated[i] - measured[i], after.simulated[i] - measured[i]
         return float(e0 @ e0 - e1 @ e1) / d.noise[i].sd_N ** 2
 
     return sorted(d.split.heldout, key=lambda i: -gain(i))[:FIGURES_PER_STEP]
@@ -196,12 +219,11 @@ def _trial_figure(d: Diagnosis, i: str, models: list[tuple[str, FittedModel]], p
 def _figures(d: Diagnosis, figdir: Path, out: Path) -> dict[str, str]:
     figures: dict[str, str] = {}
     for s in d.steps:
-        if s.named is None:
-            continue
-        for i in _deciding(d, s):
-            p = figdir / f"step{s.index}_{_safe(s.named)}_{_safe(i)}.png"
-            _trial_figure(d, i, [("before", s.before), (f"with {s.named}", s.candidates[s.named].model)], p)
-            figures[f"step {s.index} ({s.named}): {i}"] = str(p.relative_to(out))
+        for n in s.named_causes:
+            for i in _deciding(d, s, n):
+                p = figdir / f"step{s.index}_{_safe(n)}_{_safe(i)}.png"
+                _trial_figure(d, i, [("before", s.before_of(n)), (f"with {n}", s.model_of(n))], p)
+                figures[f"step {s.index} ({n}): {i}"] = str(p.relative_to(out))
     if not any(s.named for s in d.steps):
         worst = sorted(d.split.heldout, key=lambda i: -nrmse_percent(d.data.trials[i].force, d.final.simulated[i]))
         for i in worst[:FIGURES_PER_STEP]:
@@ -251,7 +273,8 @@ def markdown(doc: dict[str, Any]) -> str:
     lines += [f"Final model: `params.json` (`neuromuscle simulate --params params.json {ext_args}`).", ""]
     for s in doc["steps"]:
         lines += [f"## Step {s['step']}: from {' + '.join(['baseline'] + s['model_before']['extensions'])}", ""]
-        lines.append(f"Named: **{s['named']}**." if s["named"] else "Named: nothing (no candidate passes every rule).")
+        lines.append(f"Named: **{', '.join(s['named'])}**" + (" (together)." if len(s["named"]) > 1 else ".")
+                     if s["named"] else "Named: nothing (no candidate passes every rule).")
         lines.append("")
         fitted = [c for c in s["candidates"] if c["fitted"]]
         if fitted:
@@ -259,14 +282,21 @@ def markdown(doc: dict[str, Any]) -> str:
                            ((c["name"], f"{c['nrmse_heldout_before']:.2f}", f"{c['nrmse_heldout_after']:.2f}",
                              c["evidence"]) for c in fitted))
             lines.append("")
-        if s["named"]:
-            c = next(c for c in fitted if c["name"] == s["named"])
-            lines += table(("parameter", "value", "unit", "95 % interval", "neutral"),
+        if s["together"]:
+            j = s["together"]
+            lines += [f"No candidate passed alone; {' and '.join(j['names'])} fitted together, each against the model "
+                      "with the other alone:", ""]
+            lines += table(("cause", "beside", "evidence"), ((n, e["beside"], e["evidence"])
+                                                             for n, e in j["evidence"].items()))
+            lines.append("")
+        for c in (c for c in doc["causes"] if c["named"] and c["step"] == s["step"]):
+            lines += table((f"{c['name']}: parameter", "value", "unit", "95 % interval", "neutral"),
                            ((q, sig(p["value"], 4), p["unit"], f"[{sig(p['ci95'][0], 4)}, {sig(p['ci95'][1], 4)}]",
                              sig(p["neutral"]) if p["neutral"] is not None else "-")
                             for q, p in c["parameters"].items()))
             lines.append("")
-            figs = [(k, v) for k, v in doc["figures"].items() if k.startswith(f"step {s['step']} ")]
+        figs = [(k, v) for k, v in doc["figures"].items() if k.startswith(f"step {s['step']} ")]
+        if figs:
             lines += bullets(f"{k}: {link(v)}" for k, v in figs) + [""]
     if doc["untestable"]:
         lines += ["Untestable with these data:", ""] + bullets(f"{u['name']}: {u['reason']}"

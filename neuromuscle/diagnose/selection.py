@@ -7,7 +7,9 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    (:func:`.causes.tells`); a cause with none is listed as untestable, never guessed;
 2. **screening** (:mod:`.screening`): each candidate's linearised calibration gain at M; those whose gain beats
    their BIC penalty by at least ``FIT_SHARE`` of the best one's are fitted, best first, and, while none of them
-   passes, the next ones too, at most ``MAX_FITS`` in all;
+   passes, the next ones too, at most ``MAX_FITS`` in all, or ``MAX_FITS_SMALL`` once a fitted candidate fails
+   only for being small beside the held-out error left (a real cause, not the main one: the calibration trials
+   that rank the candidates are not those that carry the held-out error);
 3. **fit** (:func:`.models.fit_model`): M plus the candidate, the candidate's own parameters and the baseline
    parameters it interacts with free (:func:`refitted`), from M and from M with those baseline parameters put back
    at the base set's values;
@@ -18,7 +20,13 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    isometric force at the hold's length, and one that acts through the movement from the isometric misfit at
    every sample's length (:func:`.causes.isometric_level`);
 5. the passing candidate with the best whole-file score is named; its model, refitted in every free parameter
-   (:func:`consolidate`), becomes M.
+   (:func:`consolidate`), becomes M;
+6. **two at once** (:func:`joint`), when no candidate passes but one is beyond noise and material alone (rules
+   R0, R2, R4) and fails another rule: a second cause in the data can make the first one's held-out gain uneven
+   (better where one acts, worse where the other does) and the second one's fit alone lands on the first one's
+   misfit.  The material candidate and the best-screened other one are fitted together (the baseline parameters
+   either interacts with free, from each one's own fit), and each is judged against the model with the other
+   alone, by every rule.  When both pass, both are named at this step, the material one first.
 
 The search ends when no candidate passes, none is left, or after ``MAX_STEPS`` causes.  Each step estimates the
 trials' noise again from the residuals of the model it starts from (:func:`noise_under`).
@@ -48,13 +56,19 @@ from .rules import REST_Z, apply_rules
 from .screening import Screen, screen
 
 #: Candidates fitted per step: those whose screened score is at least FIT_SHARE of the best one's (a linearised
-#: gain is a ranking, not a measurement: close ones are all fitted), at most MAX_FITS, the best first.
+#: gain is a ranking, not a measurement: close ones are all fitted), at most MAX_FITS, the best first; at most
+#: MAX_FITS_SMALL when a fitted candidate fails only for being small beside the error left (SMALL_ONLY): a real
+#: cause that is not the main one, so the main one is further down the ranking.
 MAX_FITS = 3
+MAX_FITS_SMALL = 6
+SMALL_ONLY = frozenset({"R4", "R8"})
 FIT_SHARE = 1.0 / 3.0
 #: Causes named at most.
 MAX_STEPS = 3
 #: Where a fitted extension "acts" in a held-out trial: it changes the force by more than this many noise sd.
 ACTS_SD = 0.5
+#: A candidate failing some rule is tried together with another one when it passes these alone (step 6).
+JOINT_IF_PASSES = ("R0", "R2", "R4")
 
 
 @dataclass
@@ -76,9 +90,28 @@ class Candidate:
 
 
 @dataclass
+class Joint:
+    """Two candidates fitted together at one step (module docstring, step 6): their model, each one's model alone
+    and each one's evidence against the model with the other alone."""
+
+    names: tuple[str, str]
+    model: FittedModel
+    alone: dict[str, FittedModel]
+    evidence: dict[str, Evidence]
+
+    @property
+    def passed(self) -> bool:
+        return all(e.passed for e in self.evidence.values())
+
+    def other(self, name: str) -> str:
+        return self.names[1] if name == self.names[0] else self.names[0]
+
+
+@dataclass
 class Step:
     """One step of the forward selection: the model it starts from, every candidate, the cause it names (or None),
-    and the trials' noise it judged with (estimated from the model it starts from)."""
+    the pair tried together when no candidate passed alone, and the trials' noise it judged with (estimated from
+    the model it starts from)."""
 
     index: int
     before: FittedModel
@@ -87,14 +120,38 @@ class Step:
     noise: dict[str, Noise] = field(default_factory=dict)
     consolidated: FittedModel | None = None
     screen_s: float = 0.0
+    joint: Joint | None = None
+
+    @property
+    def named_jointly(self) -> bool:
+        return self.named is not None and self.joint is not None and self.joint.passed
+
+    @property
+    def named_causes(self) -> list[str]:
+        """The causes this step names, in order: none, one, or the two named together."""
+        if self.named is None:
+            return []
+        return list(self.joint.names) if self.named_jointly else [self.named]
+
+    def model_of(self, name: str) -> FittedModel:
+        """The model that names cause ``name`` at this step (for a pair, both causes')."""
+        return self.joint.model if self.named_jointly else self.candidates[name].model
+
+    def before_of(self, name: str) -> FittedModel:
+        """The model cause ``name`` was judged against (for a pair, the model with the other cause alone)."""
+        return self.joint.alone[self.joint.other(name)] if self.named_jointly else self.before
+
+    def evidence_of(self, name: str) -> Evidence:
+        """The evidence that named cause ``name`` (for a pair, against the model with the other cause alone)."""
+        return self.joint.evidence[name] if self.named_jointly else self.candidates[name].evidence
 
     @property
     def after(self) -> FittedModel:
-        """The model after this step: the named cause's (refitted in every free parameter when that was done),
+        """The model after this step: the named causes' (refitted in every free parameter when that was done),
         else the model before."""
         if self.named is None:
             return self.before
-        return self.consolidated or self.candidates[self.named].model
+        return self.consolidated or self.model_of(self.named)
 
 
 @dataclass
@@ -279,24 +336,69 @@ def step(ctx: Context, index: int, before: FittedModel, max_fits: int = MAX_FITS
     ranked = sorted(testable, key=lambda n: -screens[n].score)
     ctx.say("  scores (gain - penalty): " + "; ".join(f"{n} {screens[n].score:.4g}" for n in ranked))
     best = screens[ranked[0]].score
-    fitted = 0
+    fitted, budget = 0, max_fits
     for n in [n for n in ranked if screens[n].score > 0]:
         close = screens[n].score >= FIT_SHARE * best
-        if fitted >= max_fits or not (close or not any(c.evidence.passed for c in out.candidates.values()
-                                                       if c.evidence is not None)):
+        if fitted >= budget or not (close or not any(c.evidence.passed for c in out.candidates.values()
+                                                     if c.evidence is not None)):
             break
         fitted += 1
         c = out.candidates[n]
-        ctx.say(f"  fitting {before.name} + {n}")
-        c.model = fit_model(before.extensions + (n,), refitted(ctx, n), _starts(ctx, n, before, c.screen),
-                            ctx.calibration_trials, ctx.trials, ctx.noise, pool=ctx.pool,
-                            fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE)
-        c.evidence = judge(ctx, n, before, c.model, c.telling_heldout)
-        ctx.say(f"    {n} (from the {c.model.start}): {c.evidence.text()}")
+        fit_alone(ctx, c, before)
+        if c.evidence.failed and set(c.evidence.failed) <= SMALL_ONLY:
+            budget = max(budget, MAX_FITS_SMALL)
     passing = [n for n, c in out.candidates.items() if c.evidence is not None and c.evidence.passed]
     if passing:
         out.named = max(passing, key=lambda n: out.candidates[n].evidence.score)
+    else:
+        out.joint = joint(ctx, out)
+        if out.joint is not None and out.joint.passed:
+            out.named = out.joint.names[0]
     return out
+
+
+def fit_alone(ctx: Context, c: Candidate, before: FittedModel) -> None:
+    """Fit candidate ``c`` on ``before`` (module docstring, step 3) and judge it (step 4), in place."""
+    ctx.say(f"  fitting {before.name} + {c.name}")
+    c.model = fit_model(before.extensions + (c.name,), refitted(ctx, c.name), _starts(ctx, c.name, before, c.screen),
+                        ctx.calibration_trials, ctx.trials, ctx.noise, pool=ctx.pool,
+                        fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE)
+    c.evidence = judge(ctx, c.name, before, c.model, c.telling_heldout)
+    ctx.say(f"    {c.name} (from the {c.model.start}): {c.evidence.text()}")
+
+
+def joint(ctx: Context, s: Step) -> Joint | None:
+    """Step 6 of the module docstring at step ``s`` (where no candidate passed alone): the pair of the material
+    candidate with the best score and the other candidate with the best screen, fitted together and each judged
+    against the model with the other alone; None when no candidate is material alone or none other screens above
+    its penalty."""
+    material = [c for c in s.candidates.values()
+                if c.evidence is not None and not set(JOINT_IF_PASSES) & set(c.evidence.failed)]
+    if not material:
+        return None
+    first = max(material, key=lambda c: c.evidence.score)
+    others = [c for c in s.candidates.values()
+              if c.name != first.name and c.screen is not None and c.screen.score > 0]
+    if not others:
+        return None
+    second = max(others, key=lambda c: c.screen.score)
+    if not second.fitted:
+        fit_alone(ctx, second, s.before)
+    names = (first.name, second.name)
+    free = tuple(dict.fromkeys(refitted(ctx, first.name) + refitted(ctx, second.name)))
+    own = {c.name: {q: c.model.parameters[q] for q in extension_defaults(c.name)} for c in (first, second)}
+    starts = {f"{first.name} model": first.model.parameters.with_values(own[second.name]),
+              f"{second.name} model": second.model.parameters.with_values(own[first.name])}
+    ctx.say(f"  fitting {s.before.name} + {first.name} + {second.name} together")
+    model = fit_model(s.before.extensions + names, free, starts, ctx.calibration_trials, ctx.trials, ctx.noise,
+                      pool=ctx.pool, fixed_extensions=s.before.extensions, tolerance=CANDIDATE_TOLERANCE)
+    alone = {first.name: first.model, second.name: second.model}
+    evidence = {}
+    for c in (first, second):
+        other = second if c is first else first
+        evidence[c.name] = judge(ctx, c.name, other.model, model, c.telling_heldout)
+        ctx.say(f"    {c.name} beside {other.name}: {evidence[c.name].text()}")
+    return Joint(names, model, alone, evidence)
 
 
 def consolidate(ctx: Context, model: FittedModel) -> FittedModel:

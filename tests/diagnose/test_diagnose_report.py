@@ -64,6 +64,27 @@ def test_report_md_lists_each_named_cause_with_its_gain(null_files):
     assert "Then **unexplained**" in text
 
 
+def test_report_md_shows_two_causes_named_together(null_files):
+    """A step that names two causes together lists both, the pair's evidence (each beside the other) and each
+    cause's parameters."""
+    _, _, doc = null_files
+    doc = json.loads(json.dumps(doc))
+    pair = ["length_dependent_activation", "lengthening_below_optimum"]
+    step = doc["steps"][0]
+    step["named"] = pair
+    step["together"] = {"names": pair, "passed": True, "model": {},
+                        "evidence": {a: {"beside": b, "evidence": f"{a} gains", "statistics": {}}
+                                     for a, b in (pair, pair[::-1])}}
+    doc["causes"] = [{"name": n, "named": True, "step": step["step"],
+                      "parameters": {f"{n}.k": {"value": 0.5, "unit": "1", "ci95": [0.4, 0.6], "neutral": 0.0}}}
+                     for n in pair] + doc["causes"]
+    text = markdown(doc)
+    assert f"Named: **{pair[0]}, {pair[1]}** (together)." in text
+    assert f"| {pair[0]} | {pair[1]} | {pair[0]} gains |" in text
+    assert f"| {pair[1]} | {pair[0]} | {pair[1]} gains |" in text
+    assert all(f"| {n}: parameter |" in text and f"| {n}.k | 0.5 |" in text for n in pair)
+
+
 def test_refuses_to_overwrite(null_files):
     path, out, _ = null_files
     before = {n: (out / n).read_bytes() for n in REPORT_FILES}

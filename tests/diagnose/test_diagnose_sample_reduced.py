@@ -9,8 +9,8 @@ def test_world_a_reduced_names_eq18_and_the_hidden_staircase():
     d = diagnose_case("A-reduced staircase")
     assert sorted(d.named) == ["length_dependent_activation", "staircase"], d.named
     for s in d.steps:
-        if s.named:
-            assert s.candidates[s.named].evidence.passed
+        for n in s.named_causes:
+            assert s.evidence_of(n).passed
 
 
 def test_world_b_reduced_names_the_hidden_relaxation_alone():

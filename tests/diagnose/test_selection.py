@@ -1,0 +1,63 @@
+"""The bookkeeping of the forward selection: which step names which causes against which model, and when two
+candidates are tried together (selection.py, step 6).  The fits themselves are exercised by the sample diagnoses."""
+
+from types import SimpleNamespace
+
+from neuromuscle.diagnose.evidence import Evidence
+from neuromuscle.diagnose.selection import JOINT_IF_PASSES, Candidate, Joint, Step, joint
+
+
+def evidence(failed=()) -> Evidence:
+    ev = Evidence(n_parameters=2, gain=100.0, chi2_gain=90.0, bic_penalty=10.0, bootstrap_p05=1.0, excess=200.0,
+                  nrmse_before=5.0, nrmse_after=4.0, structured_before=["a"], identified=["x.k"],
+                  calibration_chi2_gain=50.0, calibration_penalty=10.0)
+    ev.failed = {r: "failed" for r in failed}
+    return ev
+
+
+def model(name: str) -> SimpleNamespace:
+    return SimpleNamespace(name=name)
+
+
+def candidate(name: str, failed=(), score: float | None = 10.0, fitted: bool = True) -> Candidate:
+    c = Candidate(name, ["cal"], ["held"])
+    c.screen = None if score is None else SimpleNamespace(score=score)
+    if fitted:
+        c.model, c.evidence = model(f"M + {name}"), evidence(failed)
+    return c
+
+
+def test_a_step_naming_one_cause_judges_it_against_the_model_before():
+    s = Step(1, model("M"), {"a": candidate("a")}, named="a")
+    assert s.named_causes == ["a"] and not s.named_jointly
+    assert s.model_of("a").name == "M + a" and s.before_of("a").name == "M"
+    assert s.after.name == "M + a" and s.evidence_of("a") is s.candidates["a"].evidence
+
+
+def test_two_causes_named_together_are_each_judged_against_the_other_alone():
+    a, b = candidate("a", ["R3"]), candidate("b", ["R2", "R4"])
+    pair = Joint(("a", "b"), model("M + a + b"), {"a": a.model, "b": b.model}, {"a": evidence(), "b": evidence()})
+    s = Step(1, model("M"), {"a": a, "b": b}, named="a", joint=pair)
+    assert s.named_jointly and s.named_causes == ["a", "b"]
+    assert s.model_of("a").name == s.model_of("b").name == "M + a + b" == s.after.name
+    assert s.before_of("a").name == "M + b" and s.before_of("b").name == "M + a"
+    assert s.evidence_of("b") is pair.evidence["b"]
+
+
+def test_a_pair_that_fails_names_nothing():
+    a, b = candidate("a", ["R3"]), candidate("b")
+    pair = Joint(("a", "b"), model("M + a + b"), {"a": a.model, "b": b.model},
+                 {"a": evidence(), "b": evidence(["R8"])})
+    s = Step(1, model("M"), {"a": a, "b": b}, joint=pair)
+    assert not pair.passed and s.named_causes == [] and s.after.name == "M"
+
+
+def test_no_pair_is_tried_without_a_candidate_beyond_noise_and_material_alone():
+    """joint() returns before fitting anything when every fitted candidate fails a rule of JOINT_IF_PASSES, or
+    when no other candidate screens above its penalty (the context is never used)."""
+    for rule in JOINT_IF_PASSES:
+        s = Step(1, model("M"), {"a": candidate("a", [rule, "R3"]), "b": candidate("b", ["R2"])})
+        assert joint(None, s) is None
+    alone = Step(1, model("M"), {"a": candidate("a", ["R3"]), "b": candidate("b", score=-1.0, fitted=False),
+                                 "c": candidate("c", score=None, fitted=False)})
+    assert joint(None, alone) is None
