@@ -59,6 +59,11 @@ CHANNELS = ("fused", "separate")
 #: Reversal potential (mV) of the excitatory synaptic drive (glutamatergic, AMPA-like: mixed cations).
 SYNAPTIC_REVERSAL_MV = 0.0
 
+#: What a pool records of a motoneuron (``Pool.record``'s "mn.<name>") and its unit: the soma's and the
+#: dendrite's middle membrane potential, the PIC's current density at the dendrite's middle (inward < 0) and the
+#: soma's submembrane calcium.
+RECORDABLES = {"v": "mV", "v_dend": "mV", "i_pic": "mA/cm2", "cai": "mM"}
+
 #: Motor-unit types in size order (slow, fast fatigue-resistant, fast fatigable).
 TYPES = ("S", "FR", "FF")
 
@@ -258,6 +263,26 @@ class Motoneuron:
                 g.play(seg._ref_g_mn_syn, times_ms, 0 if events else 1)
                 kept.append(g)
         return kept
+
+    def recordables(self) -> dict[str, str]:
+        """The recordable variables (RECORDABLES) with their units."""
+        return dict(RECORDABLES)
+
+    def section_of(self, variable: str) -> Any:
+        """The section holding ``variable`` (one of RECORDABLES)."""
+        return self.dend if variable in ("v_dend", "i_pic") else self.soma
+
+    def ref(self, variable: str) -> Any:
+        """NEURON reference to ``variable`` (one of RECORDABLES); InputError naming the recordable ones."""
+        if variable not in RECORDABLES:
+            raise InputError(f"{self.name}: no variable {variable!r}; recordable: {', '.join(RECORDABLES)}")
+        seg = self.section_of(variable)(0.5)
+        if variable in ("v", "v_dend"):
+            return seg._ref_v
+        fused = self.channels == "fused"
+        if variable == "i_pic":
+            return seg.mn_pic._ref_i if fused else seg._ref_ica_mn_cal
+        return seg.mn_soma._ref_cai if fused else seg._ref_cai
 
     def spike_source(self) -> Any:
         """The soma's membrane potential reference (a NetCon source; give ``section=self.soma``)."""

@@ -41,6 +41,7 @@ from ..sim.simulator import ENGINES
 from ..validate import check_spike_times, finite_number, nonnegative_number, positive_number, seed_value
 from .definition import PoolDefinition, UnitSpec
 from .motoneuron import Motoneuron
+from .recording import PoolUnit, gather_recordings
 from .result import PoolResult
 
 #: NetCon threshold (mV) of the soma spike detector.
@@ -105,6 +106,7 @@ class Pool:
         self._drive: str | None = None
         self._discharges: dict[int, np.ndarray] = {}
         self._unit_secs: list[Any] = []
+        self._record: tuple[tuple[str, ...], tuple[int, ...]] | None = None
         shared = None if self.per_unit_length else self._new_length(h, self._sec)
         pc.gid_clear()
         for u in self.specs:
@@ -270,9 +272,50 @@ class Pool:
             self.muscle[u.index].add_spike_times(trains[u.index])
 
     # -- running -------------------------------------------------------------------------------------------
-    def run(self, duration_ms: float, simulator: Simulator | None = None, record_dt_ms: float = 1.0) -> PoolResult:
-        """Run 0..duration_ms (ms) and gather spikes and forces from every rank (every rank gets the result).
-        Unit forces sampled every record_dt_ms (ms); the pool force is their sum (N)."""
+    def record(self, names: Sequence[str], units: Sequence[int] | None = None) -> None:
+        """Record the variables ``names`` of the units ``units`` (indices; None: every unit) in the next runs,
+        every record_dt_ms like the forces: the muscle unit's by the single unit's names ("ca.CaSPT", "act.A",
+        "force.F"), the motoneuron's as "mn.v", "mn.v_dend", "mn.i_pic", "mn.cai" (``pool.recording``).  The
+        result holds them in ``recordings`` (gathered from every rank).  Call it on every rank: the names are
+        checked on the ranks holding the units, and every rank raises the same InputError."""
+        if self._record is not None:
+            raise InputError(f"pool {self.definition.name!r} already records {list(self._record[0])}: give every "
+                             "variable in one call")
+        if isinstance(names, str) or not all(isinstance(n, str) for n in names) or not names:
+            raise InputError(f"pool {self.definition.name!r}: recorded names must be a non-empty list of "
+                             f"'slot.variable' strings, got {names!r}")
+        if len(set(names)) != len(names):
+            raise InputError(f"pool {self.definition.name!r}: recorded names repeat: {list(names)}")
+        n = self.definition.n_units
+        chosen = list(range(n)) if units is None else list(units)
+        bad = [u for u in chosen if isinstance(u, bool) or not isinstance(u, (int, np.integer)) or not 0 <= u < n]
+        if bad or not chosen or len(set(chosen)) != len(chosen):
+            raise InputError(f"pool {self.definition.name!r}: recorded units must be distinct unit indices "
+                             f"0..{n - 1}, got {list(units) if units is not None else units!r}")
+        problem = None
+        for gid in [u for u in chosen if u in self.muscle] or list(self.muscle)[:1]:
+            known = self._probe(gid).recordables()
+            unknown = [x for x in names if x not in known]
+            if unknown:
+                problem = (f"pool {self.definition.name!r}, unit {gid}: cannot record {unknown}; recordable: "
+                           f"{', '.join(known)}")
+                break
+        problems = [p for p in parallel_context().py_allgather(problem) if p is not None]
+        if problems:
+            raise InputError(problems[0])
+        self._record = (tuple(names), tuple(sorted(int(u) for u in chosen)))
+
+    def _probe(self, gid: int) -> PoolUnit:
+        """Unit ``gid`` (on this rank) as the Recorder sees it."""
+        return PoolUnit(self.muscle[gid], self.cells.get(gid), f"pool {self.definition.name!r}, unit {gid}")
+
+    # -- running -------------------------------------------------------------------------------------------
+    def run(self, duration_ms: float, simulator: Simulator | None = None, record_dt_ms: float = 1.0,
+            progress: Callable[[float], None] | None = None) -> PoolResult:
+        """Run 0..duration_ms (ms) and gather spikes, forces and recordings from every rank (every rank gets the
+        result).  Unit forces sampled every record_dt_ms (ms); the pool force is their sum (N).  ``progress``:
+        called with the simulated time (ms) every tenth of the run under the fixed step (on every rank, so
+        that they stop together), at the end under CVODE."""
 
         positive_number("duration_ms", duration_ms)
         positive_number("record_dt_ms", record_dt_ms)
@@ -294,34 +337,55 @@ class Pool:
             sim = replace(sim, v_init_mV=-70.0)
         if self._drive == "current":
             self._attach_current(sim)
+        names, recorded = self._record or ((), ())
         # every step under CoreNEURON (and on several threads: see Recorder), at explicit sample times under CVODE
         stepwise = sim.method == "fixed" and (sim.nthread > 1 or sim.engine == "coreneuron")
-        recorders = {gid: Recorder(u, [u.output], record_dt_ms, every_step_dt_ms=sim.dt_ms if stepwise else None,
-                                   at_times_until_ms=duration_ms if sim.method == "cvode" else None)
-                     for gid, u in self.muscle.items()}
+        recorders = {}
+        for gid, u in self.muscle.items():
+            extra = [x for x in names if x != u.output] if gid in recorded else []
+            recorders[gid] = Recorder(self._probe(gid), [u.output, *extra], record_dt_ms,
+                                      every_step_dt_ms=sim.dt_ms if stepwise else None,
+                                      at_times_until_ms=duration_ms if sim.method == "cvode" else None)
         chunk = None
         if stepwise and recorders:
-            steps_per_ms = len(recorders) / sim.dt_ms
+            steps_per_ms = sum(len(r.names) for r in recorders.values()) / sim.dt_ms
             chunk = max(record_dt_ms, STEP_RECORD_BUDGET_BYTES / (8.0 * steps_per_ms))
+        if progress is not None and sim.method == "fixed":
+            chunk = min(chunk or np.inf, max(record_dt_ms, duration_ms / 10.0))
+
+        def after_chunk() -> None:
+            for r in recorders.values():
+                r.take()
+            if progress is not None:
+                from neuron import h
+
+                progress(float(h.t))
+
         pc = parallel_context()
-        wall = sim.run(duration_ms, units=list(self.muscle.values()), chunk_ms=chunk,
-                       after_chunk=lambda: [r.take() for r in recorders.values()])
-        local_force = {gid: r.arrays(duration_ms)[1][self.muscle[gid].output] for gid, r in recorders.items()}
+        wall = sim.run(duration_ms, units=list(self.muscle.values()), chunk_ms=chunk, after_chunk=after_chunk)
+        if progress is not None and sim.method != "fixed":
+            progress(duration_ms)
+        traces = {gid: r.arrays(duration_ms)[1] for gid, r in recorders.items()}
+        local_force = {gid: traces[gid][self.muscle[gid].output] for gid in recorders}
+        local_recorded = {gid: ({x: traces[gid][x] for x in names},
+                                {x: recorders[gid].units[x] for x in names}) for gid in recorders if gid in recorded}
         if self._drive == "discharges":
             local_spikes = {gid: self._discharges[gid] for gid in self.muscle}
         else:
             t, g = np.array(self._spike_t), np.array(self._spike_gid).astype(int)
             local_spikes = {gid: np.sort(t[g == gid]) for gid in self.muscle}
-        gathered = pc.py_allgather((local_force, local_spikes, wall))
+        gathered = pc.py_allgather((local_force, local_spikes, local_recorded, wall))
         force: dict[int, np.ndarray] = {}
         spikes: dict[int, np.ndarray] = {}
-        for f, s, _ in gathered:
+        traced: dict[int, Any] = {}
+        for f, s, r, _ in gathered:
             force.update(f)
             spikes.update(s)
-        walls = [w for _, _, w in gathered]
+            traced.update(r)
+        walls = [w for *_, w in gathered]
         return PoolResult.from_gathered(self.definition, force, spikes, record_dt_ms, duration_ms, sim,
                                         drive=self._drive, ranks=self.nhost, wall_s=max(walls),
-                                        length=self.length)
+                                        length=self.length, recordings=gather_recordings(names, recorded, traced))
 
     def destroy(self) -> None:
         """Remove every NEURON object of the pool (idempotent)."""
