@@ -107,6 +107,13 @@ class PoolResult:
                     d.attrs["units"] = json.dumps(rec.units)
         return path
 
+    def save_nwb(self, path: str | Path, overwrite: bool = False, **metadata: Any) -> Path:
+        """Write as NWB (``neuromuscle.pool.nwb.write_pool_nwb``; ``metadata`` goes there); refuses to replace an
+        existing file unless overwrite."""
+        from .nwb import write_pool_nwb
+
+        return write_pool_nwb(self, path, overwrite=overwrite, **metadata)
+
     def figure(self, path: str | Path, title: str = "") -> Path:
         """Summary figure: raster, discharge rates, unit forces and pool force (PNG)."""
         from ..reports.figures import label_axes, new_figure, save_figure, set_title
