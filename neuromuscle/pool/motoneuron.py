@@ -281,7 +281,7 @@ class Motoneuron:
             return seg._ref_v
         fused = self.channels == "fused"
         if variable == "i_pic":
-            return seg.mn_pic._ref_i if fused else seg._ref_ica_mn_cal
+            return seg.mn_pic._ref_i if fused else seg._ref_ica   # mn_cal is the dendrite's only calcium current
         return seg.mn_soma._ref_cai if fused else seg._ref_cai
 
     def spike_source(self) -> Any:

@@ -59,7 +59,8 @@ def write_pool_nwb(result: PoolResult, path: str | Path, overwrite: bool = False
     overwrite.  ``session_description``: default a sentence naming the pool, its units and drive.  The NWB
     subject is the simulated pool: no animal, sex "U", age "P0D/" (unspecified), ``species`` the one whose muscle
     the parameter set describes (default: SPECIES_OF_SETS of the result's muscle set, else none).  Spike-time
-    resolution: the fixed step (unset under CVODE, whose spike times are interpolated)."""
+    resolution: the fixed step; under CVODE, which interpolates the threshold crossing, the spacing of doubles (s)
+    at the run's end."""
     from hdmf.backends.hdf5 import H5DataIO
     from pynwb import NWBHDF5IO, NWBFile, TimeSeries
     from pynwb.file import Subject
@@ -86,9 +87,12 @@ def write_pool_nwb(result: PoolResult, path: str | Path, overwrite: bool = False
                           description=f"a simulated motor-unit pool (no animal); muscle parameter set "
                                       f"{muscle_set or 'unknown'}")
     settings = result.provenance.get("settings", {})
-    fixed = settings.get("method") == "fixed" and settings.get("dt_ms")
+    if settings.get("method") == "fixed" and settings.get("dt_ms"):
+        resolution = float(settings["dt_ms"]) / 1000.0
+    else:  # CVODE interpolates the threshold crossing: spike times are any double
+        resolution = float(np.spacing(max(float(result.t_ms[-1]) / 1000.0, 1.0)))
     nwb.units = Units(name="units", description="motor units in recruitment order: their motoneurons' spikes",
-                      resolution=float(settings["dt_ms"]) / 1000.0 if fixed else None)
+                      resolution=resolution)
     for column, _, description in UNIT_COLUMNS:
         nwb.add_unit_column(name=column, description=description)
     for row, spikes in zip(result.units, result.spikes_ms):

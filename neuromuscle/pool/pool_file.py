@@ -57,7 +57,7 @@ FIELDS: dict[str, dict[str, Any]] = {
     "units": {"count": 20, "params": "CT09", "types": [0.7, 0.2, 0.1], "total_p0_N": 600.0, "smallest_p0_N": None,
               "p0_range": 100.0, "axon_length_mm": 900.0, "neuromodulation": HUMAN_NEUROMODULATION,
               "muscle": "modules", "channels": "fused"},
-    "drive": {"kind": "ramp", "peak_uS": 0.6, "peak_nA": None, "times_ms": None, "values_uS": None,
+    "drive": {"kind": "ramp", "peak_uS": 0.6, "peak_nA": 40.0, "times_ms": None, "values_uS": None,
               "values_nA": None, "rate_hz": 400.0, "weight_uS": 0.15, "seed": 0},
     "length": {"kind": "isometric", "mm": -8.0, "seed": 0, "centre_mm": -8.0, "low_mm": -16.0, "high_mm": 0.0,
                "band_hz": 5.0},
@@ -234,8 +234,7 @@ def _drive(f: _Fields, duration_ms: float) -> Drive:
                      seed=f.integer("drive.seed", 0))
     values = "drive.values_uS" if kind == "synaptic" else "drive.values_nA"
     if kind == "current" and f.raw("drive.times_ms") is None and f.raw(values) is None:
-        return Drive.rise("current", f.positive("drive.peak_nA") if f.raw("drive.peak_nA") is not None else 40.0,
-                          duration_ms)
+        return Drive.rise("current", f.positive("drive.peak_nA"), duration_ms)
     for name in ("drive.times_ms", values):
         if f.raw(name) is None:
             raise InputError(f"{f.where(name)}: the {kind} drive needs drive.times_ms and {values}")

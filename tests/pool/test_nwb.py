@@ -36,6 +36,24 @@ def test_nwbinspector_finds_no_critical_issue_or_violation(nwb_file):
     assert not serious, [(m.check_function_name, m.message) for m in serious]
 
 
+def test_a_cvode_pool_passes_too(ct09, tmp_path):
+    """CVODE interpolates spike times: the Units table's resolution is then the spacing of doubles, still set."""
+    from nwbinspector import Importance, inspect_nwbfile
+
+    from neuromuscle.sim import Simulator
+
+    with Pool(PoolDefinition(2, ct09, smallest_p0_N=0.2, p0_range=20.0)) as pool:
+        Drive.rise("synaptic", 0.6, 150.0).apply(pool)
+        r = pool.run(150.0, Simulator(method="cvode", v_init_mV=-70.0))
+    path = r.save_nwb(tmp_path / "cvode.nwb")
+    serious = [m for m in inspect_nwbfile(nwbfile_path=str(path)) if m.importance in (
+        Importance.CRITICAL, Importance.BEST_PRACTICE_VIOLATION, Importance.ERROR, Importance.PYNWB_VALIDATION)]
+    assert not serious, [(m.check_function_name, m.message) for m in serious]
+    back = read_pool_nwb(path)
+    assert sum(s.size for s in r.spikes_ms) > 2
+    assert all(np.allclose(a, b, rtol=0, atol=1e-9) for a, b in zip(r.spikes_ms, back.spikes_ms))
+
+
 def test_the_file_reads_back_to_the_result(result, nwb_file):
     back = read_pool_nwb(nwb_file)
     assert back.n_units == 3 and [u["type"] for u in back.units] == [u["type"] for u in result.units]

@@ -93,3 +93,20 @@ def test_a_second_record_call_and_motoneuron_variables_without_motoneurons_are_r
         r = pool.run(150.0)
     ca = r.recordings["ca.CaSPT"].values[0]
     assert ca[r.t_ms < 20.0].max() < 0.1 * ca.max()   # unit 1's calcium rises at its first discharge, 20 ms
+
+
+@pytest.mark.parametrize("channels", ["fused", "separate"])
+def test_coreneuron_records_what_neuron_records(ct09, channels):
+    """CoreNEURON records every step (the Recorder's stepwise path, a membrane variable by its section): the
+    samples are NEURON's, bit for bit, for either channel set."""
+    runs = {}
+    for engine in ("neuron", "coreneuron"):
+        d = PoolDefinition(2, ct09, smallest_p0_N=0.2, p0_range=20.0, motoneuron_channels=channels)
+        with Pool(d, engine=engine) as pool:
+            Drive.rise("synaptic", 0.6, 200.0).apply(pool)
+            pool.record(["mn.v", "mn.i_pic", "mn.cai", "act.A"], units=[0])
+            runs[engine] = pool.run(200.0, record_dt_ms=0.5)
+    a, b = runs["neuron"], runs["coreneuron"]
+    assert a.spikes_ms[0].size > 2 and a.recordings["mn.i_pic"].values.min() < 0.0
+    for name, rec in a.recordings.items():
+        np.testing.assert_array_equal(b.recordings[name].values, rec.values)
