@@ -346,9 +346,11 @@ class Pool:
             recorders[gid] = Recorder(self._probe(gid), [u.output, *extra], record_dt_ms,
                                       every_step_dt_ms=sim.dt_ms if stepwise else None,
                                       at_times_until_ms=duration_ms if sim.method == "cvode" else None)
+        pc = parallel_context()
         chunk = None
-        if stepwise and recorders:
-            steps_per_ms = sum(len(r.names) for r in recorders.values()) / sim.dt_ms
+        if stepwise:
+            # the fullest rank's recorded values per ms: every rank stops at the same times
+            steps_per_ms = pc.allreduce(sum(len(r.names) for r in recorders.values()) / sim.dt_ms, 2)
             chunk = max(record_dt_ms, STEP_RECORD_BUDGET_BYTES / (8.0 * steps_per_ms))
         if progress is not None and sim.method == "fixed":
             chunk = min(chunk or np.inf, max(record_dt_ms, duration_ms / 10.0))
@@ -361,7 +363,6 @@ class Pool:
 
                 progress(float(h.t))
 
-        pc = parallel_context()
         wall = sim.run(duration_ms, units=list(self.muscle.values()), chunk_ms=chunk, after_chunk=after_chunk)
         if progress is not None and sim.method != "fixed":
             progress(duration_ms)

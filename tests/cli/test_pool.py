@@ -141,9 +141,12 @@ needs_mpi = pytest.mark.skipif(not mpi_available(), reason="the mpi extra is not
 
 
 @needs_mpi
-def test_two_ranks_write_the_same_pool_and_recordings_as_one(tmp_path):
-    args = ["--units", "5", "--duration-ms", "200", "--record", "mn.v", "--record", "mn.i_pic", "--record",
-            "act.A", "--record", "ca.CaSPT", "--record-units", "0,1,4"]
+@pytest.mark.parametrize("engine", ["neuron", "coreneuron"])
+def test_two_ranks_write_the_same_pool_and_recordings_as_one(tmp_path, engine):
+    """Units 0, 2, 4 on rank 0 and 1, 3 on rank 1: rank 0 records two units, rank 1 one (CoreNEURON's
+    every-step recordings are emptied at the same times on both)."""
+    args = ["--units", "5", "--duration-ms", "200", "--engine", engine, "--record", "mn.v", "--record", "mn.i_pic",
+            "--record", "act.A", "--record", "ca.CaSPT", "--record-units", "0,1,4"]
     runs = {}
     for n in (1, 2):
         out = tmp_path / f"ranks{n}"
