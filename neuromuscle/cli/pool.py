@@ -11,6 +11,7 @@ import argparse
 import json
 import sys
 import time
+from pathlib import Path
 from typing import Any
 
 from ..errors import NeuromuscleError
@@ -134,7 +135,7 @@ def _run(args: argparse.Namespace, rank: int, nhost: int) -> int:
     source = args.definition or "command line"
     if args.definition:
         doc = merge(read_document(args.definition), doc)
-    setup = pool_setup(doc, source, flagged)
+    setup = pool_setup(doc, source, flagged, Path(args.definition).parent if args.definition else None)
     out = check_out_dir(args.out, args.overwrite, FILES)  # every rank: the same answer, before the run
     d = setup.definition
     drive = setup.document["drive"]["kind"]

@@ -2,7 +2,8 @@
 
     [units]                            # the pool (PoolDefinition); defaults: the human pool below
     count = 20
-    params = "CT09"                    # base muscle parameter set (built-in name or JSON file)
+    params = "CT09"                    # base muscle parameter set (built-in name, or a JSON file relative to
+                                       # the definition file)
     types = [0.7, 0.2, 0.1]            # S, FR, FF fractions, smallest cells S
     total_p0_N = 600.0                 # the unit P0s sum to this (N) ... or smallest_p0_N
     p0_range = 100.0                   # largest / smallest P0
@@ -43,7 +44,7 @@ from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from ..errors import InputError
-from ..parameters import load_parameters
+from ..parameters import builtin_sets, load_parameters
 from ..protocols import LengthTrace, random_length
 from ..sim import Simulator
 from ..sim.simulator import ENGINES
@@ -147,8 +148,16 @@ def complete(doc: Mapping[str, Any], source: str) -> dict[str, Any]:
 class _Fields:
     """Reads checked values out of a completed document; every error names the source and the field."""
 
-    def __init__(self, doc: Mapping[str, Any], source: str, flagged: Mapping[str, str]) -> None:
-        self.doc, self.source, self.flagged = doc, source, flagged
+    def __init__(self, doc: Mapping[str, Any], source: str, flagged: Mapping[str, str],
+                 base_dir: Path | None = None) -> None:
+        self.doc, self.source, self.flagged, self.base_dir = doc, source, flagged, base_dir
+
+    def path(self, name: str) -> str:
+        """A file name given by the field: relative to the definition file's folder when the file gave it."""
+        text = self.text(name)
+        if self.base_dir is None or name in self.flagged or Path(text).is_absolute():
+            return text
+        return str(self.base_dir / text)
 
     def where(self, name: str) -> str:
         """The field's name for a message: its flag when a flag set it, else the source and the field."""
@@ -209,7 +218,7 @@ def _definition(f: _Fields) -> PoolDefinition:
                          f"{list(types)}")
     params = f.text("units.params")
     try:
-        muscle = load_parameters(params)
+        muscle = load_parameters(params if params in builtin_sets() else f.path("units.params"))
     except InputError as exc:
         raise InputError(f"{f.where('units.params')}: {exc}") from None
     fields = {"axon_length_mm": f.positive("units.axon_length_mm"),
@@ -279,12 +288,14 @@ def _recordings(f: _Fields, n_units: int) -> tuple[tuple[str, ...], tuple[int, .
     return tuple(names), tuple(units)
 
 
-def pool_setup(doc: Mapping[str, Any], source: str, flagged: Mapping[str, str] | None = None) -> PoolSetup:
+def pool_setup(doc: Mapping[str, Any], source: str, flagged: Mapping[str, str] | None = None,
+               base_dir: str | Path | None = None) -> PoolSetup:
     """Check ``doc`` (the definition file's mapping, flags merged in) and build the run's pieces; every
     InputError names ``source`` (the file, or "command line") and the field, or the flag (``flagged``: field ->
-    flag) that set it.  Nothing is built in NEURON."""
+    flag) that set it.  A parameter file named by the document is read relative to ``base_dir`` (the
+    definition file's folder).  Nothing is built in NEURON."""
     full = complete(doc, source)
-    f = _Fields(full, source, flagged or {})
+    f = _Fields(full, source, flagged or {}, None if base_dir is None else Path(base_dir))
     duration = f.positive("run.duration_ms")
     dt = f.positive("run.dt_ms")
     record_dt = f.positive("run.record_dt_ms")

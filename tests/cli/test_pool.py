@@ -5,6 +5,7 @@ one rank, recordings included, written once."""
 
 import json
 import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,6 +16,7 @@ from neuromuscle.pool.mpi import mpi_available, mpiexec_command
 from neuromuscle.pool.nwb import read_pool_nwb
 
 FILES = ("pool.h5", "pool.nwb", "pool.png")
+NETWORKS = Path(__file__).resolve().parents[2] / "networks"
 
 
 def test_the_plain_form_writes_hdf5_nwb_and_png(tmp_path, capsys):
@@ -83,6 +85,28 @@ def test_a_toml_file_with_a_flag_replacing_a_field(tmp_path, capsys):
     assert r.provenance["definition"]["length"] == {**r.provenance["definition"]["length"], "kind": "random",
                                                     "seed": 2}
     assert r.provenance["definition_file"] == str(path) and r.provenance["pool"] == "tibialis"
+
+
+def test_the_shipped_example_definition_runs(tmp_path, capsys):
+    example = NETWORKS / "human_pool.toml"
+    assert main(["pool", str(example), "--units", "6", "--duration-ms", "300", "--record-units", "0,5",
+                 "--out", str(tmp_path), "--quiet"]) == 0
+    r = load_pool_result(tmp_path / "pool.h5")
+    assert r.provenance["pool"] == "human" and r.t_ms[1] == 0.5
+    assert sorted(r.recordings) == ["act.A", "ca.CaSPT", "mn.i_pic", "mn.v"] and r.recordings["mn.v"].units == [0, 5]
+    full = json.loads(capsys.readouterr().out)
+    assert full["recruited"] >= 5
+
+
+def test_a_parameter_file_is_read_beside_the_definition(tmp_path, ct09):
+    folder = tmp_path / "experiment"
+    folder.mkdir()
+    ct09.with_values(P0=30.0).save(folder / "mine.json")
+    (folder / "pool.toml").write_text('[units]\ncount = 2\nparams = "mine.json"\nsmallest_p0_N = 0.5\n'
+                                      '[run]\nduration_ms = 50.0\n')
+    assert main(["pool", str(folder / "pool.toml"), "--out", str(tmp_path / "run"), "--quiet"]) == 0
+    prov = load_pool_result(tmp_path / "run" / "pool.h5").provenance
+    assert prov["muscle_parameters"]["parameters"]["P0"]["value"] == 30.0
 
 
 def test_a_json_file_gives_the_same_pool_as_the_flags(tmp_path):
