@@ -14,6 +14,9 @@ same total on every motoneuron, spread over its membrane; the physiological driv
 discharge times delivered to the muscle units: no motoneurons are built).  Length: one MuscleLength per rank
 shared by its units (``per_unit_length=False``) or one per unit; a float (mm) or a LengthTrace.
 
+Motoneurons: the built-in reduced cells, or any cell a factory builds (``cells``: ``pool.cells``, e.g.
+``reconstructed_cells`` for a morphology read from an SWC file with the channels you name).
+
 Muscle sections: all of a rank's muscle units sit on one section (the default, cheapest per fixed step), or each
 on its own with its own MuscleLength (``per_unit_section=True``): then NEURON's local variable time step
 (``Simulator(method="cvode", local_dt=True)``) integrates every unit and every motoneuron apart, so a spike
@@ -40,7 +43,7 @@ from ..sim.recordings import Recorder, on_time_grid
 from ..sim.simulator import ENGINES
 from ..validate import check_spike_times, finite_number, nonnegative_number, positive_number, seed_value
 from .definition import PoolDefinition, UnitSpec
-from .motoneuron import Motoneuron
+from .cells import CellFactory, MotoneuronCell, reduced_cells
 from .recording import PoolUnit, gather_recordings
 from .result import PoolResult
 
@@ -74,7 +77,7 @@ class Pool:
 
     def __init__(self, definition: PoolDefinition, *, length: LengthTrace | float = -8.0,
                  per_unit_length: bool = False, motoneurons: bool = True, per_unit_section: bool = False,
-                 engine: str = "neuron") -> None:
+                 engine: str = "neuron", cells: CellFactory | None = None) -> None:
         from ..model.mechanisms import load_mechanisms
 
         load_mechanisms()
@@ -101,7 +104,8 @@ class Pool:
             self._sec = h.Section(name=f"{definition.name}_muscle_r{self.rank}")
         self._lengths: list[Any] = []
         self.muscle: dict[int, MuscleUnit] = {}
-        self.cells: dict[int, Motoneuron] = {}
+        self.cells: dict[int, MotoneuronCell] = {}
+        make_cell = cells or reduced_cells(definition.motoneuron_channels)
         self._keep: list[Any] = []
         self._drive: str | None = None
         self._discharges: dict[int, np.ndarray] = {}
@@ -121,14 +125,14 @@ class Pool:
                                               name=f"unit{u.index}")
             pc.set_gid2node(u.index, self.rank)
             if motoneurons:
-                cell = Motoneuron(u.motoneuron, name=f"mn{u.index}", channels=definition.motoneuron_channels)
+                cell = make_cell(u, f"mn{u.index}")
                 self.cells[u.index] = cell
                 det = h.NetCon(cell.spike_source(), None, sec=cell.soma)
                 det.threshold = SPIKE_THRESHOLD_MV
                 pc.cell(u.index, det)
                 for r in self.muscle[u.index].spike_receivers():
                     nc = pc.gid_connect(u.index, r)
-                    nc.delay, nc.weight[0] = u.motoneuron.axon_delay_ms, 1.0
+                    nc.delay, nc.weight[0] = cell.axon_delay_ms, 1.0
                     self._keep.append(nc)
                 self._keep.append(det)
         self._spike_t, self._spike_gid = h.Vector(), h.Vector()
@@ -182,7 +186,7 @@ class Pool:
         between times_ms, ms; held in SYNAPTIC_STEP_MS steps), spread uniformly over its soma and dendrite,
         reversal 0 mV.  The same input on every cell recruits the small cells first (their membrane is smaller:
         Henneman's size principle), and the conductance saturates the rates as the membrane depolarises towards
-        the reversal (Powers & Heckman 2017).  Motoneuron.play_synaptic_conductance does the wiring."""
+        the reversal (Powers & Heckman 2017).  The cell's play_synaptic_conductance does the wiring."""
         from neuron import h
 
         t = check_spike_times(times_ms, "synaptic drive times")

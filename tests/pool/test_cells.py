@@ -1,0 +1,87 @@
+"""Motoneuron cells behind one interface: the built-in reduced cell through its factory gives the pool it always
+gave; a reconstructed cell read from the shipped SWC morphology by Import3d, with the channels named, has its
+sections, segments and mechanisms, fires under the common synaptic drive and drives its muscle unit in a pool whose
+voltages are recorded; bad morphologies and mechanisms are refused naming the file, group, mechanism or parameter."""
+
+from importlib import resources
+
+import numpy as np
+import pytest
+
+from neuromuscle.errors import InputError
+from neuromuscle.pool import Pool, PoolDefinition
+from neuromuscle.pool.cells import (ReconstructedMotoneuron, mechanism_parameters, reconstructed_cells,
+                                    reduced_cells)
+from neuromuscle.pool.drives import Drive
+
+SWC = resources.files("neuromuscle.data.morphology").joinpath("small_motoneuron.swc")
+
+#: The reduced S cell's channels and leak, named for the reconstructed one.
+MECHANISMS = {"all": {"pas": {"g": 1.0 / 8000.0, "e": -70.0}},
+              "soma": {"pas": {"g": 1.0 / 600.0},
+                       "mn_soma": {"gnaf": 0.6, "gkdr": 0.15, "gcan": 0.01, "gkca": 0.012, "ena": 50.0, "ek": -80.0,
+                                   "taur": 45.0, "kd": 0.002}},
+              "dend": {"mn_pic": {"gbar": 3.6e-5, "vhalf": -57.0, "slope": 4.0}}}
+
+
+def test_the_reduced_factory_is_the_default_pool(ct09):
+    d = PoolDefinition(2, ct09, smallest_p0_N=0.2, p0_range=20.0)
+    runs = []
+    for cells in (None, reduced_cells("fused")):
+        with Pool(d, cells=cells) as pool:
+            Drive.rise("synaptic", 0.6, 200.0).apply(pool)
+            runs.append(pool.run(200.0))
+    assert sum(s.size for s in runs[0].spikes_ms) > 2
+    assert np.array_equal(runs[0].unit_force_N, runs[1].unit_force_N)
+
+
+def test_a_reconstructed_cell_has_the_morphology_and_the_named_channels():
+    cell = ReconstructedMotoneuron(SWC, MECHANISMS, axon_delay_ms=7.5, name="rc")
+    try:
+        assert len(cell.sections) == 19 and len(cell.dends) == 18 and cell.soma.name() == "rc.soma[0]"
+        assert cell.soma.L == pytest.approx(50.0) and cell.axon_delay_ms == 7.5
+        assert all(sec.nseg % 2 == 1 and sec.L / sec.nseg <= 100.0 for sec in cell.sections)
+        assert 1.5e5 < cell.membrane_area_um2() < 2.5e5
+        assert cell.soma(0.5).mn_soma.gnaf == 0.6 and cell.soma(0.5).pas.g == pytest.approx(1 / 600)
+        assert cell.dends[0](0.5).pas.g == pytest.approx(1 / 8000) and cell.dends[0](0.5).mn_pic.gbar == 3.6e-5
+        assert not cell.dends[0].has_membrane("mn_soma")
+        assert set(cell.recordables()) == {"v", "v_dend"}
+    finally:
+        cell.destroy()
+
+
+def test_a_pool_of_reconstructed_cells_fires_and_pulls(ct09):
+    d = PoolDefinition(3, ct09, smallest_p0_N=0.2, p0_range=20.0)
+    with Pool(d, cells=reconstructed_cells(SWC, MECHANISMS)) as pool:
+        Drive.recruitment_ramp(0.6, 400.0).apply(pool)
+        pool.record(["mn.v", "mn.v_dend", "act.A"], units=[0])
+        r = pool.run(400.0, record_dt_ms=0.1)
+    spikes = r.spikes_ms[0]
+    assert spikes.size > 3 and all(s.size == spikes.size for s in r.spikes_ms)  # one morphology: the same cell
+    rates = 1000.0 / np.diff(spikes)
+    assert 5.0 < rates.min() and rates.max() < 60.0
+    v = r.recordings["mn.v"].values[0]
+    assert v[0] == pytest.approx(-70.0) and v.max() > 0.0
+    assert r.recordings["mn.v_dend"].values[0].max() < v.max()      # the spike is smaller in the dendrite
+    # the largest unit pulls hardest, each unit only after its first spike reaches it down its axon
+    assert r.unit_force_N[2].max() > r.unit_force_N[0].max() > 0.0
+    arrival = spikes[0] + r.units[0]["axon_delay_ms"]
+    assert r.recordings["act.A"].values[0][r.t_ms < arrival - 0.5].max() < 0.05
+
+
+def test_bad_morphologies_and_mechanisms_are_refused(tmp_path):
+    with pytest.raises(InputError, match="absent.swc: no such SWC morphology file"):
+        reconstructed_cells(tmp_path / "absent.swc", MECHANISMS)
+    with pytest.raises(InputError, match="mechanisms for 'somata': section groups are all, soma, dend, apic, axon"):
+        reconstructed_cells(SWC, {"somata": {"pas": {}}})
+    with pytest.raises(InputError, match="soma: no density mechanism 'mn_sodium' is compiled"):
+        reconstructed_cells(SWC, {"soma": {"mn_sodium": {}}})
+    with pytest.raises(InputError, match="dend: mn_pic has no parameter 'gmax'; parameters: gbar"):
+        reconstructed_cells(SWC, {"dend": {"mn_pic": {"gmax": 1e-4}}})
+    with pytest.raises(InputError, match="all.pas.g"):
+        reconstructed_cells(SWC, {"all": {"pas": {"g": float("nan")}}})
+    no_soma = tmp_path / "no_soma.swc"
+    no_soma.write_text("1 3 0 0 0 5 -1\n2 3 100 0 0 4 1\n")
+    with pytest.raises(InputError, match="no_soma.swc: the morphology has no soma"):
+        ReconstructedMotoneuron(no_soma, {}, axon_delay_ms=5.0)
+    assert mechanism_parameters("pas") == ["g", "e"] and mechanism_parameters("KimCa") is None
