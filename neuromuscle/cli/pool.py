@@ -82,8 +82,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("pool", help="run a motor-unit pool (definition file or flags, MPI-ready); write "
                                     "pool.h5, pool.nwb and pool.png")
     p.add_argument("definition", nargs="?", default=None,
-                   help="definition file (.toml or .json: sections units, drive, length, run, record); flags "
-                        "replace its fields; without it the flags and the defaults (a human pool) define the run")
+                   help="definition file (.toml or .json: sections units, drive, length, run, record, "
+                        "motoneuron); flags replace its fields; without it the flags and the defaults (a human "
+                        "pool) define the run")
     p.add_argument("--out", required=True, help="output folder (pool.h5, pool.nwb, pool.png)")
     p.add_argument("--overwrite", action="store_true", help="replace those files in --out")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
@@ -148,7 +149,8 @@ def _run(args: argparse.Namespace, rank: int, nhost: int) -> int:
                                f"%), {time.perf_counter() - t0:.1f} s")
 
     result, report = run_definition(d, setup.drive, setup.simulator, setup.duration_ms, nhost, length=setup.length,
-                                    record_dt_ms=setup.record_dt_ms, recordings=setup.recordings, progress=progress)
+                                    record_dt_ms=setup.record_dt_ms, recordings=setup.recordings, progress=progress,
+                                    cells=setup.cells)
     if rank != 0:
         return 0
     result.provenance.update(_provenance(setup, args))

@@ -26,6 +26,11 @@
     [record]                           # optional: Pool.record
     variables = ["mn.v", "act.A", "ca.CaSPT"]
     units = [0, 10]                    # default: every unit
+    [motoneuron]                       # optional: reconstructed cells instead of the reduced ones (pool.cells)
+    swc = "cell.swc"                   # relative to the definition file
+    cm = 1.0                           # uF/cm2; also ra (ohm cm), max_segment_um
+    [motoneuron.mechanisms.soma.mn_soma]     # {section group: {mechanism: {parameter: value}}}
+    gnaf = 0.6
 
 Drives: ``ramp`` (the recruitment ramp: the common synaptic conductance 0 -> peak_uS over the first half of the
 run, held to three quarters, back to 0: ``Drive.recruitment_ramp``), ``rise`` (0 -> peak_uS over the run),
@@ -48,6 +53,7 @@ from ..parameters import builtin_sets, load_parameters
 from ..protocols import LengthTrace, random_length
 from ..sim import Simulator
 from ..sim.simulator import ENGINES
+from .cells import CellFactory, reconstructed_cells
 from .definition import MUSCLE_MODELS, PoolDefinition
 from .drives import Drive
 from .experiments import total_force_smallest_p0_N
@@ -64,6 +70,7 @@ FIELDS: dict[str, dict[str, Any]] = {
                "band_hz": 5.0},
     "run": {"duration_ms": 500.0, "dt_ms": 0.025, "record_dt_ms": 1.0, "method": "fixed", "engine": "neuron"},
     "record": {"variables": None, "units": None},
+    "motoneuron": {"swc": None, "mechanisms": None, "cm": 1.0, "ra": 70.0, "max_segment_um": 100.0},
 }
 #: Top-level fields besides the sections.
 TOP_FIELDS = {"name": "pool"}
@@ -84,6 +91,7 @@ class PoolSetup:
     record_dt_ms: float
     recordings: tuple[tuple[str, ...], tuple[int, ...] | None] | None
     document: dict[str, Any] = field(default_factory=dict)
+    cells: CellFactory | None = None
 
 
 def read_document(path: str | Path) -> dict[str, Any]:
@@ -288,6 +296,24 @@ def _recordings(f: _Fields, n_units: int) -> tuple[tuple[str, ...], tuple[int, .
     return tuple(names), tuple(units)
 
 
+def _cells(f: _Fields) -> CellFactory | None:
+    if f.raw("motoneuron.swc") is None:
+        if f.raw("motoneuron.mechanisms") is not None:
+            raise InputError(f"{f.where('motoneuron.mechanisms')} is given without motoneuron.swc")
+        return None
+    mechanisms = f.raw("motoneuron.mechanisms") or {}
+    if not isinstance(mechanisms, Mapping) or not all(
+            isinstance(m, Mapping) and all(isinstance(v, Mapping) for v in m.values()) for m in mechanisms.values()):
+        raise InputError(f"{f.where('motoneuron.mechanisms')} must map section groups to {{mechanism: {{parameter: "
+                         f"value}}}}, got {mechanisms!r}")
+    options = {"cm": f.positive("motoneuron.cm"), "ra": f.positive("motoneuron.ra"),
+               "max_segment_um": f.positive("motoneuron.max_segment_um")}
+    try:
+        return reconstructed_cells(f.path("motoneuron.swc"), mechanisms, **options)
+    except InputError as exc:
+        raise InputError(f"{f.source}: [motoneuron]: {exc}") from None
+
+
 def pool_setup(doc: Mapping[str, Any], source: str, flagged: Mapping[str, str] | None = None,
                base_dir: str | Path | None = None) -> PoolSetup:
     """Check ``doc`` (the definition file's mapping, flags merged in) and build the run's pieces; every
@@ -317,4 +343,4 @@ def pool_setup(doc: Mapping[str, Any], source: str, flagged: Mapping[str, str] |
     except InputError as exc:
         raise InputError(f"{source}: [run]: {exc}") from None
     return PoolSetup(definition, _drive(f, duration), _length(f, duration), sim, duration, record_dt,
-                     _recordings(f, definition.n_units), full)
+                     _recordings(f, definition.n_units), full, _cells(f))

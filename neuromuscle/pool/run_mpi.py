@@ -153,11 +153,12 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
 
 def run_definition(definition: Any, drive: Any, sim: Any, duration_ms: float, nhost: int = 1, *,
                    length: Any = -8.0, record_dt_ms: float = 1.0, recordings: tuple[Any, Any] | None = None,
-                   progress: Callable[[float], None] | None = None) -> tuple[Any, dict[str, Any]]:
+                   progress: Callable[[float], None] | None = None, cells: Any = None) -> tuple[Any, dict[str, Any]]:
     """Build the pool of ``definition`` on this rank, give it ``drive`` (a pool.drives.Drive), record
     ``recordings`` ((variable names, unit indices): ``Pool.record``), run it for ``duration_ms`` (ms) with the
     Simulator ``sim`` and gather the PoolResult on every rank; ``progress(t_ms)`` is called as the run advances
-    (fixed step).  Returns the result and the timing report (module docstring; units s, ms, MiB, N, Hz)."""
+    (fixed step); ``cells``: the motoneurons' factory (``pool.cells``; None: the reduced cells).  Returns the
+    result and the timing report (module docstring; units s, ms, MiB, N, Hz)."""
     from ..errors import InputError
     from ..model.mechanisms import coreneuron_library, load_mechanisms
     from .pool import Pool, parallel_context
@@ -172,7 +173,7 @@ def run_definition(definition: Any, drive: Any, sim: Any, duration_ms: float, nh
     pc.barrier()
     startup = time.perf_counter() - _START
     t0 = time.perf_counter()
-    with Pool(definition, length=length, per_unit_section=sim.local_dt, engine=sim.engine) as pool:
+    with Pool(definition, length=length, per_unit_section=sim.local_dt, engine=sim.engine, cells=cells) as pool:
         drive.apply(pool)
         if recordings is not None:
             pool.record(*recordings)

@@ -205,3 +205,23 @@ def test_the_command_is_listed(capsys):
     with pytest.raises(SystemExit):
         main(["--help"])
     assert "pool" in capsys.readouterr().out
+
+
+@needs_mpi
+def test_a_pool_of_reconstructed_cells_on_two_ranks_is_the_one_rank_pool(tmp_path):
+    """The shipped example of reconstructed cells (an SWC morphology read by Import3d on every rank), shortened."""
+    runs = {}
+    for n in (1, 2):
+        out = tmp_path / f"ranks{n}"
+        cmd = mpiexec_command(n, ["-m", "neuromuscle.cli", "pool", str(NETWORKS / "reconstructed_pool.toml"),
+                                  "--units", "3", "--total-p0-n", "30", "--duration-ms", "300", "--out", str(out),
+                                  "--quiet"])
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+        assert proc.returncode == 0, proc.stderr[-3000:]
+        runs[n] = load_pool_result(out / "pool.h5")
+    one, two = runs[1], runs[2]
+    assert one.provenance["definition"]["motoneuron"]["swc"].endswith("small_motoneuron.swc")
+    assert sum(s.size for s in one.spikes_ms) > 5 and one.recordings["mn.v_dend"].units == [0]
+    assert all(np.array_equal(a, b) for a, b in zip(one.spikes_ms, two.spikes_ms))
+    assert np.array_equal(one.unit_force_N, two.unit_force_N)
+    assert np.array_equal(one.recordings["mn.v"].values, two.recordings["mn.v"].values)

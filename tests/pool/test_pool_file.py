@@ -57,6 +57,25 @@ def test_bad_fields_name_source_and_field(doc, message):
         pool_setup(doc, "src")
 
 
+def test_reconstructed_cells_from_the_motoneuron_section(tmp_path):
+    from importlib import resources
+
+    swc = resources.files("neuromuscle.data.morphology").joinpath("small_motoneuron.swc")
+    (tmp_path / "cell.swc").write_text(swc.read_text())
+    doc = {"motoneuron": {"swc": "cell.swc", "mechanisms": {"soma": {"mn_soma": {"gnaf": 0.5}}}}}
+    assert pool_setup({}, "src").cells is None
+    assert callable(pool_setup(doc, "src", base_dir=tmp_path).cells)
+    with pytest.raises(InputError, match="src: \\[motoneuron\\]: .*cell.swc: no such SWC morphology file"):
+        pool_setup(doc, "src", base_dir=tmp_path / "elsewhere")
+    bad = {"motoneuron": {"swc": "cell.swc", "mechanisms": {"soma": {"mn_soma": {"gna": 0.5}}}}}
+    with pytest.raises(InputError, match="soma: mn_soma has no parameter 'gna'"):
+        pool_setup(bad, "src", base_dir=tmp_path)
+    with pytest.raises(InputError, match="src: motoneuron.mechanisms must map section groups"):
+        pool_setup({"motoneuron": {"swc": "cell.swc", "mechanisms": {"soma": ["mn_soma"]}}}, "src", base_dir=tmp_path)
+    with pytest.raises(InputError, match="src: motoneuron.mechanisms is given without motoneuron.swc"):
+        pool_setup({"motoneuron": {"mechanisms": {}}}, "src")
+
+
 def test_a_flag_is_named_instead_of_the_field():
     with pytest.raises(InputError, match="^--peak-us must be > 0, got 0"):
         pool_setup({"drive": {"peak_uS": 0}}, "command line", {"drive.peak_uS": "--peak-us"})
