@@ -10,8 +10,14 @@ A cell (``MotoneuronCell``) has a ``soma`` section (the input site: common curre
 ``soma(0.5)``), ``spike_source()`` (the soma's voltage: its threshold crossings are the unit's spikes),
 ``axon_delay_ms`` (to its muscle unit), ``play_synaptic_conductance`` (the common synaptic drive over the whole
 membrane), ``recordables()`` / ``ref(name)`` / ``section_of(name)`` (what ``Pool.record`` records as "mn.<name>")
-and ``destroy()``.  A pool builds one cell a unit through a factory, ``(UnitSpec, name) -> cell``: write your own
-for any hoc template or Python class that has those members.  Units: um, ms, mV, S/cm2, ohm cm, uF/cm2.
+and ``destroy()``.  A pool builds one cell a unit through a factory, ``(UnitSpec, name) -> cell``:
+``reduced_cells`` (the default), ``reconstructed_cells`` (an SWC morphology), or ``built_cells`` for a cell you build
+yourself, a hoc template instance or a Python object with a soma section, wrapped by ``wrap_cell``:
+
+    h.load_file("my_motoneuron.hoc")
+    cells = built_cells(lambda spec, name: h.MyMotoneuron(spec.motoneuron.size))
+
+Units: um, ms, mV, S/cm2, ohm cm, uF/cm2.
 """
 
 from __future__ import annotations
@@ -59,9 +65,9 @@ def reduced_cells(channels: str = "fused") -> CellFactory:
 
 #: The SWC section groups a mechanism may be inserted into ("all": every section).
 SECTION_GROUPS = ("all", "soma", "dend", "apic", "axon")
-#: What a reconstructed cell records (``Pool.record``'s "mn.<name>"): the soma's and the first dendrite's middle
+#: What a cell of sections records (``Pool.record``'s "mn.<name>"): the soma's and the first dendrite's middle
 #: membrane potential.
-RECONSTRUCTED_RECORDABLES = {"v": "mV", "v_dend": "mV"}
+CELL_RECORDABLES = {"v": "mV", "v_dend": "mV"}
 
 
 class _Morphology:
@@ -112,50 +118,16 @@ def check_mechanisms(mechanisms: Mapping[str, Mapping[str, Mapping[str, float]]]
                 finite_number(f"{where}: {group}.{mech}.{k}", v)
 
 
-class ReconstructedMotoneuron:
-    """A motoneuron whose morphology is read from an SWC file by NEURON's Import3d, with ``mechanisms``
-    {section group: {mechanism: {parameter: value}}} inserted (groups: SECTION_GROUPS; a group's values apply
-    after "all"'s).  Segments at most ``max_segment_um`` (um) long (an odd count a section); membrane ``cm``
-    (uF/cm2) and axial ``ra`` (ohm cm) everywhere; the axon to the muscle takes ``axon_delay_ms`` (ms)."""
+class SectionCell:
+    """A motoneuron made of NEURON sections: its ``soma`` (input site and spike source), ``dends`` (the first
+    records "v_dend"), every section (``sections``: the synaptic drive spreads over their membrane), its axon
+    delay (ms) and the object holding the sections (``owner``, kept alive with the cell)."""
 
-    def __init__(self, swc: str | Path, mechanisms: Mapping[str, Mapping[str, Mapping[str, float]]], *,
-                 axon_delay_ms: float, name: str = "mn", cm: float = 1.0, ra: float = 70.0,
-                 max_segment_um: float = 100.0) -> None:
-        path = Path(swc)
-        if not path.is_file():
-            raise InputError(f"{path}: no such SWC morphology file")
-        check_mechanisms(mechanisms, str(path))
-        self._delay = positive_number(f"{name}: axon_delay_ms", axon_delay_ms)
-        seg_um = positive_number(f"{name}: max_segment_um", max_segment_um)
-        cm, ra = positive_number(f"{name}: cm", cm), positive_number(f"{name}: ra", ra)
-        from neuron import h
-
-        h.load_file("stdlib.hoc")
-        h.load_file("import3d.hoc")
+    def __init__(self, soma: Any, dends: list[Any], sections: list[Any], axon_delay_ms: float, name: str,
+                 owner: Any = None) -> None:
         self.name = name
-        reader = h.Import3d_SWC_read()
-        reader.quiet = 1
-        reader.input(str(path))
-        self._morphology = _Morphology(name)
-        h.Import3d_GUI(reader, False).instantiate(self._morphology)
-        groups = {g: list(getattr(self._morphology, g, None) or []) for g in SECTION_GROUPS}
-        if not groups["soma"]:
-            self.destroy()
-            raise InputError(f"{path}: the morphology has no soma (SWC type 1)")
-        self.soma = groups["soma"][0]
-        self.dends = groups["dend"] + groups["apic"]
-        self.sections = groups["all"]
-        for sec in self.sections:
-            n = max(1, math.ceil(sec.L / seg_um))
-            sec.nseg = n + 1 - n % 2   # odd: a node at the middle
-            sec.cm, sec.Ra = cm, ra
-        for group in SECTION_GROUPS:
-            for mech, values in mechanisms.get(group, {}).items():
-                for sec in groups[group]:
-                    sec.insert(mech)
-                    for seg in sec:
-                        for k, v in values.items():
-                            setattr(getattr(seg, mech), k, float(v))
+        self.soma, self.dends, self.sections, self.owner = soma, dends, sections, owner
+        self._delay = positive_number(f"{name}: axon_delay_ms", axon_delay_ms)
 
     @property
     def axon_delay_ms(self) -> float:
@@ -175,8 +147,8 @@ class ReconstructedMotoneuron:
         return play_synaptic_conductance(self.sections, times_ms, conductance_uS, events)
 
     def recordables(self) -> dict[str, str]:
-        """The recordable variables (RECONSTRUCTED_RECORDABLES; "v_dend" only with dendrites) and their units."""
-        return {k: u for k, u in RECONSTRUCTED_RECORDABLES.items() if k != "v_dend" or self.dends}
+        """The recordable variables (CELL_RECORDABLES; "v_dend" only with dendrites) and their units."""
+        return {k: u for k, u in CELL_RECORDABLES.items() if k != "v_dend" or self.dends}
 
     def section_of(self, variable: str) -> Any:
         """The section holding ``variable``: the soma, or the first dendrite for "v_dend"."""
@@ -189,9 +161,91 @@ class ReconstructedMotoneuron:
         return self.section_of(variable)(0.5)._ref_v
 
     def destroy(self) -> None:
-        """Remove the sections from NEURON (idempotent)."""
-        for attr in ("sections", "soma", "dends", "_morphology"):
+        """Let go of the sections (NEURON removes them with the last reference; idempotent)."""
+        for attr in ("sections", "soma", "dends", "owner"):
             self.__dict__.pop(attr, None)
+
+
+class ReconstructedMotoneuron(SectionCell):
+    """A motoneuron whose morphology is read from an SWC file by NEURON's Import3d, with ``mechanisms``
+    {section group: {mechanism: {parameter: value}}} inserted (groups: SECTION_GROUPS; a group's values apply
+    after "all"'s).  Segments at most ``max_segment_um`` (um) long (an odd count a section); membrane ``cm``
+    (uF/cm2) and axial ``ra`` (ohm cm) everywhere; the axon to the muscle takes ``axon_delay_ms`` (ms)."""
+
+    def __init__(self, swc: str | Path, mechanisms: Mapping[str, Mapping[str, Mapping[str, float]]], *,
+                 axon_delay_ms: float, name: str = "mn", cm: float = 1.0, ra: float = 70.0,
+                 max_segment_um: float = 100.0) -> None:
+        path = Path(swc)
+        if not path.is_file():
+            raise InputError(f"{path}: no such SWC morphology file")
+        check_mechanisms(mechanisms, str(path))
+        positive_number(f"{name}: axon_delay_ms", axon_delay_ms)
+        seg_um = positive_number(f"{name}: max_segment_um", max_segment_um)
+        cm, ra = positive_number(f"{name}: cm", cm), positive_number(f"{name}: ra", ra)
+        from neuron import h
+
+        h.load_file("stdlib.hoc")
+        h.load_file("import3d.hoc")
+        reader = h.Import3d_SWC_read()
+        reader.quiet = 1
+        reader.input(str(path))
+        morphology = _Morphology(name)
+        h.Import3d_GUI(reader, False).instantiate(morphology)
+        groups = {g: list(getattr(morphology, g, None) or []) for g in SECTION_GROUPS}
+        if not groups["soma"]:
+            raise InputError(f"{path}: the morphology has no soma (SWC type 1)")
+        super().__init__(groups["soma"][0], groups["dend"] + groups["apic"], groups["all"], axon_delay_ms, name,
+                         owner=morphology)
+        for sec in self.sections:
+            n = max(1, math.ceil(sec.L / seg_um))
+            sec.nseg = n + 1 - n % 2   # odd: a node at the middle
+            sec.cm, sec.Ra = cm, ra
+        for group in SECTION_GROUPS:
+            for mech, values in mechanisms.get(group, {}).items():
+                for sec in groups[group]:
+                    sec.insert(mech)
+                    for seg in sec:
+                        for k, v in values.items():
+                            setattr(getattr(seg, mech), k, float(v))
+
+
+def _first_section(value: Any) -> Any:
+    """A section, or the first of a list or hoc section array of them."""
+    from neuron import nrn
+
+    if isinstance(value, nrn.Section):
+        return value
+    try:
+        return value[0]
+    except (TypeError, IndexError, KeyError, RuntimeError):
+        return None
+
+
+def wrap_cell(cell: Any, *, axon_delay_ms: float, name: str, soma: str = "soma", dend: str = "dend") -> SectionCell:
+    """A cell you built (an instance of a hoc template or of a Python class) as a pool's motoneuron: its soma
+    is attribute ``soma`` (a section, or the first of a list or array), its dendrites attribute ``dend`` (may
+    be absent), its sections ``cell.all`` (a SectionList or list) or else every section NEURON says belongs to
+    it (``sec.cell()``).  InputError naming the cell when it has no such soma."""
+    from neuron import h
+
+    first = _first_section(getattr(cell, soma, None))
+    if first is None:
+        raise InputError(f"{name}: the cell {cell!r} has no section {soma!r} (give soma= the attribute of its soma)")
+    dends = getattr(cell, dend, None)
+    dends = [] if dends is None else [dends] if _first_section(dends) is dends else list(dends)
+    every = getattr(cell, "all", None)
+    sections = list(every) if every is not None else [sec for sec in h.allsec() if sec.cell() == cell]
+    if not any(sec == first for sec in sections):
+        sections = [first, *dends]
+    return SectionCell(first, dends, sections, axon_delay_ms, name, owner=cell)
+
+
+def built_cells(build: Callable[[UnitSpec, str], Any], **names: str) -> CellFactory:
+    """A factory of cells you build: ``build(spec, name)`` returns a hoc template instance or Python object
+    (e.g. ``lambda spec, name: h.MyMotoneuron()``), wrapped by ``wrap_cell`` (``names``: soma=, dend=) with the
+    unit's axon delay."""
+    return lambda spec, name: wrap_cell(build(spec, name), axon_delay_ms=spec.motoneuron.axon_delay_ms, name=name,
+                                        **names)
 
 
 def reconstructed_cells(swc: str | Path, mechanisms: Mapping[str, Mapping[str, Mapping[str, float]]],

@@ -1,7 +1,8 @@
 """Motoneuron cells behind one interface: the built-in reduced cell through its factory gives the pool it always
 gave; a reconstructed cell read from the shipped SWC morphology by Import3d, with the channels named, has its
 sections, segments and mechanisms, fires under the common synaptic drive and drives its muscle unit in a pool whose
-voltages are recorded; bad morphologies and mechanisms are refused naming the file, group, mechanism or parameter."""
+voltages are recorded; a cell you build (a hoc template, a Python class) is wrapped the same way; bad morphologies,
+mechanisms and cells are refused naming the file, group, mechanism, parameter or cell."""
 
 from importlib import resources
 
@@ -10,8 +11,8 @@ import pytest
 
 from neuromuscle.errors import InputError
 from neuromuscle.pool import Pool, PoolDefinition
-from neuromuscle.pool.cells import (ReconstructedMotoneuron, mechanism_parameters, reconstructed_cells,
-                                    reduced_cells)
+from neuromuscle.pool.cells import (ReconstructedMotoneuron, built_cells, mechanism_parameters,
+                                    reconstructed_cells, reduced_cells, wrap_cell)
 from neuromuscle.pool.drives import Drive
 
 SWC = resources.files("neuromuscle.data.morphology").joinpath("small_motoneuron.swc")
@@ -85,3 +86,73 @@ def test_bad_morphologies_and_mechanisms_are_refused(tmp_path):
     with pytest.raises(InputError, match="no_soma.swc: the morphology has no soma"):
         ReconstructedMotoneuron(no_soma, {}, axon_delay_ms=5.0)
     assert mechanism_parameters("pas") == ["g", "e"] and mechanism_parameters("KimCa") is None
+
+
+HOC_TEMPLATE = """
+begintemplate TwoDendriteMN
+public soma, dend, all
+create soma, dend[2]
+objref all
+proc init() {
+    all = new SectionList()
+    soma { L = 50 diam = 50 insert pas g_pas = 1/600 e_pas = -70 insert mn_soma all.append() }
+    for i = 0, 1 {
+        connect dend[i](0), soma(1)
+        dend[i] { L = 1500 diam = 8 nseg = 5 insert pas g_pas = 1/8000 e_pas = -70
+                  insert mn_pic gbar_mn_pic = $1 all.append() }
+    }
+}
+endtemplate TwoDendriteMN
+"""
+
+
+class PythonMN:
+    """A user's cell as a Python class: a soma with the spike channels and one passive dendrite."""
+
+    def __init__(self):
+        from neuron import h
+
+        self.soma = h.Section(name="soma", cell=self)
+        self.dend = h.Section(name="dend", cell=self)
+        self.dend.connect(self.soma(1.0))
+        self.soma.L = self.soma.diam = 50.0
+        self.dend.L, self.dend.diam, self.dend.nseg = 1500.0, 8.0, 5
+        for sec, g in ((self.soma, 1 / 600), (self.dend, 1 / 8000)):
+            sec.insert("pas")
+            for seg in sec:
+                seg.pas.g, seg.pas.e = g, -70.0
+        self.soma.insert("mn_soma")
+
+
+def test_cells_you_build_from_a_hoc_template_or_a_python_class(ct09, tmp_path):
+    from neuron import h
+
+    hoc = tmp_path / "two_dendrite_mn.hoc"
+    hoc.write_text(HOC_TEMPLATE)
+    assert h.load_file(str(hoc)) == 1
+    d = PoolDefinition(2, ct09, smallest_p0_N=0.2, p0_range=20.0)
+    results = {}
+    for label, build in (("hoc", lambda spec, name: h.TwoDendriteMN(3.6e-5)),
+                         ("python", lambda spec, name: PythonMN())):
+        with Pool(d, cells=built_cells(build)) as pool:
+            assert len(pool.cells[0].sections) == (3 if label == "hoc" else 2)
+            Drive.rise("synaptic", 0.6, 300.0).apply(pool)
+            pool.record(["mn.v", "mn.v_dend"], units=[1])
+            results[label] = pool.run(300.0, record_dt_ms=0.1)
+    for r in results.values():
+        assert all(s.size > 2 for s in r.spikes_ms) and r.pool_force_N.max() > 0.0
+        assert r.recordings["mn.v"].values.max() > 0.0
+        # each unit's spikes reach its muscle after its own axon delay (the unit's motoneuron parameters)
+        assert r.units[0]["axon_delay_ms"] != r.units[1]["axon_delay_ms"]
+    # two different cells: a hoc template with two dendrites and a PIC, a Python class with one passive dendrite
+    assert not np.array_equal(results["hoc"].spikes_ms[0], results["python"].spikes_ms[0])
+
+
+def test_a_cell_without_the_named_soma_is_refused():
+    class NoSoma:
+        pass
+
+    with pytest.raises(InputError, match="mn0: the cell .* has no section 'soma'"):
+        wrap_cell(NoSoma(), axon_delay_ms=5.0, name="mn0")
+    with pytest.raises(InputError, match="mn0: axon_delay_ms"):
+        wrap_cell(PythonMN(), axon_delay_ms=0.0, name="mn0")
