@@ -7,12 +7,13 @@
     with Pool(definition, cells=cells) as pool: ...
 
 A cell (``MotoneuronCell``) has a ``soma`` section (the input site: common currents and Poisson synapses sit at
-``soma(0.5)``), ``spike_source()`` (the soma's voltage: its threshold crossings are the unit's spikes),
-``axon_delay_ms`` (to its muscle unit), ``play_synaptic_conductance`` (the common synaptic drive over the whole
-membrane), ``recordables()`` / ``ref(name)`` / ``section_of(name)`` (what ``Pool.record`` records as "mn.<name>")
-and ``destroy()``.  A pool builds one cell a unit through a factory, ``(UnitSpec, name) -> cell``:
-``reduced_cells`` (the default), ``reconstructed_cells`` (an SWC morphology), or ``built_cells`` for a cell you build
-yourself, a hoc template instance or a Python object with a soma section, wrapped by ``wrap_cell``:
+``soma(0.5)``), its ``sections``, ``spike_source()`` (the soma's voltage: its threshold crossings are the unit's
+spikes), ``axon_delay_ms`` (to its muscle unit), ``v_rest_mV`` (where a lone cell's runs start: excitability),
+``play_synaptic_conductance`` (the common synaptic drive over the whole membrane), ``recordables()`` /
+``ref(name)`` / ``section_of(name)`` (what ``Pool.record`` records as "mn.<name>") and ``destroy()``.  A pool
+builds one cell a unit through a factory, ``(UnitSpec, name) -> cell``: ``reduced_cells`` (the default),
+``reconstructed_cells`` (an SWC morphology), or ``built_cells`` for a cell you build yourself, a hoc template
+instance or a Python object with a soma section, wrapped by ``wrap_cell``:
 
     h.load_file("my_motoneuron.hoc")
     cells = built_cells(lambda spec, name: h.MyMotoneuron(spec.motoneuron.size))
@@ -39,7 +40,13 @@ class MotoneuronCell(Protocol):
     soma: Any
 
     @property
+    def sections(self) -> list[Any]: ...
+
+    @property
     def axon_delay_ms(self) -> float: ...
+
+    @property
+    def v_rest_mV(self) -> float: ...
 
     def spike_source(self) -> Any: ...
 
@@ -121,13 +128,15 @@ def check_mechanisms(mechanisms: Mapping[str, Mapping[str, Mapping[str, float]]]
 class SectionCell:
     """A motoneuron made of NEURON sections: its ``soma`` (input site and spike source), ``dends`` (the first
     records "v_dend"), every section (``sections``: the synaptic drive spreads over their membrane), its axon
-    delay (ms) and the object holding the sections (``owner``, kept alive with the cell)."""
+    delay (ms), its resting potential ``v_rest_mV`` (mV) and the object holding the sections (``owner``, kept
+    alive with the cell)."""
 
     def __init__(self, soma: Any, dends: list[Any], sections: list[Any], axon_delay_ms: float, name: str,
-                 owner: Any = None) -> None:
+                 owner: Any = None, v_rest_mV: float = -70.0) -> None:
         self.name = name
         self.soma, self.dends, self.sections, self.owner = soma, dends, sections, owner
         self._delay = positive_number(f"{name}: axon_delay_ms", axon_delay_ms)
+        self.v_rest_mV = finite_number(f"{name}: v_rest_mV", v_rest_mV)
 
     @property
     def axon_delay_ms(self) -> float:
@@ -174,7 +183,7 @@ class ReconstructedMotoneuron(SectionCell):
 
     def __init__(self, swc: str | Path, mechanisms: Mapping[str, Mapping[str, Mapping[str, float]]], *,
                  axon_delay_ms: float, name: str = "mn", cm: float = 1.0, ra: float = 70.0,
-                 max_segment_um: float = 100.0) -> None:
+                 max_segment_um: float = 100.0, v_rest_mV: float = -70.0) -> None:
         path = Path(swc)
         if not path.is_file():
             raise InputError(f"{path}: no such SWC morphology file")
@@ -195,7 +204,7 @@ class ReconstructedMotoneuron(SectionCell):
         if not groups["soma"]:
             raise InputError(f"{path}: the morphology has no soma (SWC type 1)")
         super().__init__(groups["soma"][0], groups["dend"] + groups["apic"], groups["all"], axon_delay_ms, name,
-                         owner=morphology)
+                         owner=morphology, v_rest_mV=v_rest_mV)
         for sec in self.sections:
             n = max(1, math.ceil(sec.L / seg_um))
             sec.nseg = n + 1 - n % 2   # odd: a node at the middle
@@ -221,7 +230,8 @@ def _first_section(value: Any) -> Any:
         return None
 
 
-def wrap_cell(cell: Any, *, axon_delay_ms: float, name: str, soma: str = "soma", dend: str = "dend") -> SectionCell:
+def wrap_cell(cell: Any, *, axon_delay_ms: float, name: str, soma: str = "soma", dend: str = "dend",
+              v_rest_mV: float = -70.0) -> SectionCell:
     """A cell you built (an instance of a hoc template or of a Python class) as a pool's motoneuron: its soma
     is attribute ``soma`` (a section, or the first of a list or array), its dendrites attribute ``dend`` (may
     be absent), its sections ``cell.all`` (a SectionList or list) or else every section NEURON says belongs to
@@ -237,15 +247,15 @@ def wrap_cell(cell: Any, *, axon_delay_ms: float, name: str, soma: str = "soma",
     sections = list(every) if every is not None else [sec for sec in h.allsec() if sec.cell() == cell]
     if not any(sec == first for sec in sections):
         sections = [first, *dends]
-    return SectionCell(first, dends, sections, axon_delay_ms, name, owner=cell)
+    return SectionCell(first, dends, sections, axon_delay_ms, name, owner=cell, v_rest_mV=v_rest_mV)
 
 
-def built_cells(build: Callable[[UnitSpec, str], Any], **names: str) -> CellFactory:
+def built_cells(build: Callable[[UnitSpec, str], Any], **options: Any) -> CellFactory:
     """A factory of cells you build: ``build(spec, name)`` returns a hoc template instance or Python object
-    (e.g. ``lambda spec, name: h.MyMotoneuron()``), wrapped by ``wrap_cell`` (``names``: soma=, dend=) with the
-    unit's axon delay."""
+    (e.g. ``lambda spec, name: h.MyMotoneuron()``), wrapped by ``wrap_cell`` (``options``: soma=, dend=,
+    v_rest_mV=) with the unit's axon delay."""
     return lambda spec, name: wrap_cell(build(spec, name), axon_delay_ms=spec.motoneuron.axon_delay_ms, name=name,
-                                        **names)
+                                        **options)
 
 
 def reconstructed_cells(swc: str | Path, mechanisms: Mapping[str, Mapping[str, Mapping[str, float]]],

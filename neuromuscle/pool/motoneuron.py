@@ -267,14 +267,24 @@ class Motoneuron:
         """Conduction delay (ms) from the soma to the muscle unit."""
         return self.params.axon_delay_ms
 
+    @property
+    def sections(self) -> list[Any]:
+        """The cell's sections: soma and dendrite."""
+        return [self.soma, self.dend]
+
+    @property
+    def v_rest_mV(self) -> float:
+        """The potential (mV) runs of the cell start from: the leak reversal."""
+        return self.params.e_leak_mV
+
     def membrane_area_um2(self) -> float:
         """Total membrane area of soma and dendrite (um2)."""
-        return membrane_area_um2((self.soma, self.dend))
+        return membrane_area_um2(self.sections)
 
     def play_synaptic_conductance(self, times_ms: Any, conductance_uS: Any, events: bool = True) -> list[Any]:
         """The common synaptic drive on soma and dendrite (``play_synaptic_conductance``); returns the Vectors
         to keep alive."""
-        return play_synaptic_conductance((self.soma, self.dend), times_ms, conductance_uS, events)
+        return play_synaptic_conductance(self.sections, times_ms, conductance_uS, events)
 
     def recordables(self) -> dict[str, str]:
         """The recordable variables (RECORDABLES) with their units."""

@@ -156,3 +156,19 @@ def test_a_cell_without_the_named_soma_is_refused():
         wrap_cell(NoSoma(), axon_delay_ms=5.0, name="mn0")
     with pytest.raises(InputError, match="mn0: axon_delay_ms"):
         wrap_cell(PythonMN(), axon_delay_ms=0.0, name="mn0")
+
+
+def test_excitability_measures_any_cell_of_the_interface():
+    """The current-clamp measurements use only the interface: a reconstructed cell has a rheobase, fires faster
+    under more synaptic conductance, and keeps no synaptic mechanism after the measurement."""
+    from neuromuscle.pool.excitability import rheobase_nA, synaptic_rates_hz
+
+    cell = ReconstructedMotoneuron(SWC, MECHANISMS, axon_delay_ms=7.5, name="probe", v_rest_mV=-70.0)
+    try:
+        rheobase = rheobase_nA(cell)
+        assert 0.5 < rheobase < 100.0
+        rates = synaptic_rates_hz(cell, [0.05, 0.3, 0.6], duration_ms=800.0, skip_ms=400.0)
+        assert rates[0] < rates[1] < rates[2] and rates[2] > 5.0
+        assert not any(sec.has_membrane("mn_syn") for sec in cell.sections)
+    finally:
+        cell.destroy()
