@@ -40,6 +40,11 @@ def test_the_plain_form_writes_hdf5_nwb_and_png(tmp_path, capsys):
     assert prov["versions"]["neuron"] and prov["muscle_parameters"]["name"] == "CT09"
     assert sum(u["P0_N"] for u in r.units) == pytest.approx(600.0)
     assert np.array_equal(read_pool_nwb(out / "pool.nwb").unit_force_N, r.unit_force_N)
+    from nwbinspector import Importance, inspect_nwbfile
+
+    serious = [m for m in inspect_nwbfile(nwbfile_path=str(out / "pool.nwb")) if m.importance in (
+        Importance.CRITICAL, Importance.BEST_PRACTICE_VIOLATION, Importance.ERROR, Importance.PYNWB_VALIDATION)]
+    assert not serious, [(m.check_function_name, m.message) for m in serious]
     # an existing output is kept
     before = (out / "pool.h5").read_bytes()
     assert main(["pool", "--units", "3", "--total-p0-n", "30", "--duration-ms", "50", "--out", str(out)]) == 2
