@@ -120,11 +120,12 @@ def _say(quiet: bool, rank: int, text: str) -> None:
 
 
 def _provenance(setup: Any, args: argparse.Namespace) -> dict[str, Any]:
+    """What the run adds to the result's provenance: the whole definition (defaults filled in), the drive as
+    played, the base muscle parameters and the command."""
     d = setup.definition
     return {"definition": setup.document, "definition_file": args.definition, "command": " ".join(sys.argv),
             "drive_detail": setup.drive.to_dict(), "muscle_parameters": d.muscle.to_json(),
-            "units_type_fractions": list(d.type_fractions), "axon_length_mm": d.axon_length_mm,
-            "neuromodulation": d.neuromodulation}
+            "axon_length_mm": d.axon_length_mm, "neuromodulation": d.neuromodulation}
 
 
 def _run(args: argparse.Namespace, rank: int, nhost: int) -> int:
