@@ -4,7 +4,8 @@ delay), round-robin over MPI ranks.
 
     pool = Pool(PoolDefinition(100, load_parameters("CT09")), length=-8.0)
     pool.drive_synaptic([0, 2000, 4000], [0, 0.3, 0])            # a common synaptic conductance (uS a cell)
-    result = pool.run(4000.0)                                     # PoolResult: spikes, unit and pool force
+    pool.record(["mn.v", "act.A"], units=[0, 99])                 # any variable of chosen units (optional)
+    result = pool.run(4000.0)                                     # PoolResult: spikes, forces, recordings
     pool.destroy()
 
 Drives: ``drive_synaptic`` (a common excitatory synaptic conductance, uS, linear between the given times: the
