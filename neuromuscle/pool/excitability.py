@@ -1,5 +1,5 @@
-"""Current-clamp measurements of one motoneuron: rheobase, AHP duration, f-I slope, hysteresis on a triangle,
-self-sustained firing, and the rates under a common synaptic drive.
+"""Current-clamp measurements of one motoneuron (any cell of the pool's interface, ``pool.cells``): rheobase, AHP
+duration, f-I slope, hysteresis on a triangle, self-sustained firing, and the rates under a common synaptic drive.
 
 Each builds its own IClamp at the soma, runs through the Simulator (fixed step, from ``v_init_mV``) and removes
 the clamp.  ``python -m neuromuscle.pool.excitability`` prints the cells' figures (S to FF) as JSON.
@@ -14,12 +14,13 @@ from typing import Sequence
 import numpy as np
 
 from ..sim import Simulator
+from .cells import MotoneuronCell
 from .motoneuron import Motoneuron
 
 _THRESHOLD_MV = -10.0
 
 
-def clamp_run(cell: Motoneuron, times_ms: Sequence[float], amps_nA: Sequence[float], duration_ms: float,
+def clamp_run(cell: MotoneuronCell, times_ms: Sequence[float], amps_nA: Sequence[float], duration_ms: float,
               *, steps: bool, dt_ms: float = 0.025) -> tuple[np.ndarray, np.ndarray]:
     """Inject a current at the soma: ``amps_nA`` at ``times_ms`` held piecewise constant (``steps``) or linearly
     interpolated; returns (spike times ms, soma potential mV every dt_ms)."""
@@ -34,14 +35,14 @@ def clamp_run(cell: Motoneuron, times_ms: Sequence[float], amps_nA: Sequence[flo
     nc.threshold = _THRESHOLD_MV
     nc.record(spikes)
     v = h.Vector().record(cell.soma(0.5)._ref_v)
-    Simulator(method="fixed", dt_ms=dt_ms, v_init_mV=cell.params.e_leak_mV).run(duration_ms)
+    Simulator(method="fixed", dt_ms=dt_ms, v_init_mV=cell.v_rest_mV).run(duration_ms)
     out = np.array(spikes), np.array(v)
     av.play_remove()
     del nc, ic
     return out
 
 
-def steady_rate_hz(cell: Motoneuron, amp_nA: float, duration_ms: float = 1500.0, skip_ms: float = 1000.0) -> float:
+def steady_rate_hz(cell: MotoneuronCell, amp_nA: float, duration_ms: float = 1500.0, skip_ms: float = 1000.0) -> float:
     """Mean discharge rate (Hz) from skip_ms (ms) after the onset of a step of amp_nA to its end (the adapted,
     steady discharge Kernell 1965 measured); 0 when fewer than two spikes fall there."""
     sp = step_spikes(cell, amp_nA, duration_ms)
@@ -49,7 +50,7 @@ def steady_rate_hz(cell: Motoneuron, amp_nA: float, duration_ms: float = 1500.0,
     return float((late.size - 1) * 1000.0 / (late[-1] - late[0])) if late.size > 2 else 0.0
 
 
-def input_resistance_step_MOhm(cell: Motoneuron, amp_nA: float = -0.5, duration_ms: float = 400.0) -> float:
+def input_resistance_step_MOhm(cell: MotoneuronCell, amp_nA: float = -0.5, duration_ms: float = 400.0) -> float:
     """Input resistance (MOhm) as a physiologist measures it: the steady change of the soma potential under a
     small hyperpolarising step (amp_nA, nA) divided by the current."""
     dt = 0.025
@@ -58,14 +59,14 @@ def input_resistance_step_MOhm(cell: Motoneuron, amp_nA: float = -0.5, duration_
     return float((v[int((200.0 + duration_ms - 1.0) / dt)] - v[int(199.0 / dt)]) / amp_nA)
 
 
-def step_spikes(cell: Motoneuron, amp_nA: float, duration_ms: float = 200.0, onset_ms: float = 100.0) -> np.ndarray:
+def step_spikes(cell: MotoneuronCell, amp_nA: float, duration_ms: float = 200.0, onset_ms: float = 100.0) -> np.ndarray:
     """Spike times (ms) during and just after a current step of amp_nA from onset_ms for duration_ms."""
     sp, _ = clamp_run(cell, [0.0, onset_ms, onset_ms + duration_ms], [0.0, amp_nA, 0.0],
                       onset_ms + duration_ms + 5.0, steps=True)
     return sp[sp >= onset_ms]
 
 
-def rheobase_nA(cell: Motoneuron, upper_nA: float = 100.0, tolerance_nA: float = 0.05,
+def rheobase_nA(cell: MotoneuronCell, upper_nA: float = 100.0, tolerance_nA: float = 0.05,
                 duration_ms: float = 200.0) -> float:
     """Smallest step current (nA, within tolerance_nA) that fires the cell within a duration_ms step (bisection)."""
     lo, hi = 0.0, upper_nA
@@ -80,7 +81,8 @@ def rheobase_nA(cell: Motoneuron, upper_nA: float = 100.0, tolerance_nA: float =
     return hi
 
 
-def ahp_duration_ms(cell: Motoneuron, pulse_nA: float = 150.0, pulse_ms: float = 0.5, recovery: float = 0.9) -> float:
+def ahp_duration_ms(cell: MotoneuronCell, pulse_nA: float = 150.0, pulse_ms: float = 0.5,
+                    recovery: float = 0.9) -> float:
     """Duration (ms) of the afterhyperpolarisation after one spike evoked by a brief pulse: from the spike until the
     potential has recovered ``recovery`` of the way from the AHP trough back to rest."""
     onset = 200.0
@@ -97,7 +99,7 @@ def ahp_duration_ms(cell: Motoneuron, pulse_nA: float = 150.0, pulse_ms: float =
     return float((trough + back[0]) * dt)
 
 
-def fi_slope_Hz_per_nA(cell: Motoneuron, amps_nA: Sequence[float], duration_ms: float = 1000.0,
+def fi_slope_Hz_per_nA(cell: MotoneuronCell, amps_nA: Sequence[float], duration_ms: float = 1000.0,
                        skip_ms: float = 500.0) -> tuple[float, np.ndarray]:
     """Steady discharge rate (Hz, ``steady_rate_hz`` after skip_ms of each step) at each step current, and the
     slope (Hz/nA) of a straight line through them."""
@@ -119,7 +121,7 @@ class Hysteresis:
         return self.off_nA - self.on_nA
 
 
-def triangle_hysteresis(cell: Motoneuron, peak_nA: float, rise_ms: float = 2000.0) -> Hysteresis:
+def triangle_hysteresis(cell: MotoneuronCell, peak_nA: float, rise_ms: float = 2000.0) -> Hysteresis:
     """Fire the cell by a triangular current 0 -> peak_nA -> 0 (rise_ms up, rise_ms down) and report the currents
     at recruitment and derecruitment."""
     sp, _ = clamp_run(cell, [0.0, rise_ms, 2 * rise_ms], [0.0, peak_nA, 0.0], 2 * rise_ms, steps=False)
@@ -131,7 +133,7 @@ def triangle_hysteresis(cell: Motoneuron, peak_nA: float, rise_ms: float = 2000.
     return Hysteresis(current(sp[0]), current(sp[-1]), int(sp.size))
 
 
-def self_sustained_ms(cell: Motoneuron, bias_nA: float, pulse_nA: float, pulse_ms: float = 500.0,
+def self_sustained_ms(cell: MotoneuronCell, bias_nA: float, pulse_nA: float, pulse_ms: float = 500.0,
                       after_ms: float = 3000.0) -> float:
     """How long (ms) the cell keeps firing after a brief depolarising pulse (pulse_nA above bias_nA for pulse_ms)
     while the bias current holds on (Lee & Heckman 1998's test of bistability): the time from the pulse's end to
@@ -143,10 +145,10 @@ def self_sustained_ms(cell: Motoneuron, bias_nA: float, pulse_nA: float, pulse_m
     return float(after[-1] - end) if after.size else 0.0
 
 
-def synaptic_rates_hz(cell: Motoneuron, conductances_uS: Sequence[float], duration_ms: float = 1500.0,
+def synaptic_rates_hz(cell: MotoneuronCell, conductances_uS: Sequence[float], duration_ms: float = 1500.0,
                       skip_ms: float = 1000.0) -> np.ndarray:
     """Steady rate (Hz, after skip_ms) under each constant common synaptic conductance (uS, the cell's total;
-    ``Motoneuron.play_synaptic_conductance``), one run each."""
+    the cell's ``play_synaptic_conductance``), one run each."""
     from neuron import h
 
     out = []
@@ -156,7 +158,7 @@ def synaptic_rates_hz(cell: Motoneuron, conductances_uS: Sequence[float], durati
         sp, _ = clamp_run(cell, [0.0, duration_ms], [0.0, 0.0], duration_ms, steps=True)
         for vec in kept:
             vec.play_remove()
-        for sec in (cell.soma, cell.dend):
+        for sec in cell.sections:
             sec.uninsert("mn_syn")
         late = sp[sp >= skip_ms]
         out.append((late.size - 1) * 1000.0 / (late[-1] - late[0]) if late.size > 2 else 0.0)

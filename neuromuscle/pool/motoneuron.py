@@ -44,7 +44,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, fields, replace
-from typing import Any, Mapping
+from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -58,6 +58,11 @@ CHANNELS = ("fused", "separate")
 
 #: Reversal potential (mV) of the excitatory synaptic drive (glutamatergic, AMPA-like: mixed cations).
 SYNAPTIC_REVERSAL_MV = 0.0
+
+#: What a pool records of a motoneuron (``Pool.record``'s "mn.<name>") and its unit: the soma's and the
+#: dendrite's middle membrane potential, the PIC's current density at the dendrite's middle (inward < 0) and the
+#: soma's submembrane calcium.
+RECORDABLES = {"v": "mV", "v_dend": "mV", "i_pic": "mA/cm2", "cai": "mM"}
 
 #: Motor-unit types in size order (slow, fast fatigue-resistant, fast fatigable).
 TYPES = ("S", "FR", "FF")
@@ -174,6 +179,41 @@ def motoneuron_parameters(size: float, unit_type: str | None = None, *, scales: 
     return replace(p, **overrides) if overrides else p
 
 
+def membrane_area_um2(sections: Iterable[Any]) -> float:
+    """Total membrane area (um2) of ``sections``."""
+    from neuron import h
+
+    return float(sum(h.area(seg.x, sec=seg.sec) for sec in sections for seg in sec))
+
+
+def play_synaptic_conductance(sections: Sequence[Any], times_ms: Any, conductance_uS: Any,
+                              events: bool = True) -> list[Any]:
+    """Excitatory synaptic conductance on a whole cell, reversal SYNAPTIC_REVERSAL_MV: ``conductance_uS`` (uS,
+    the cell's total, numbers) from each of ``times_ms`` (a hoc Vector, ms) to the next, spread uniformly over
+    the membrane of ``sections`` (mod/mn_syn.mod, which NEURON and CoreNEURON both run; one Vector.play a
+    segment, its values set as events at those times, not interpolated every step).  events=False: a continuous
+    play of the same steps (each value held to the next time: CoreNEURON plays no events into a density
+    mechanism).  Returns the Vectors to keep alive."""
+    from neuron import h
+
+    density = 100.0 / membrane_area_um2(sections)   # S/cm2 per uS of the cell's total: 1e-6 S / (A um2 * 1e-8)
+    values = np.asarray(conductance_uS, float) * density
+    kept = []
+    if not events:  # each value held until the next time: two knots at every step
+        t = np.asarray(times_ms, float)
+        times_ms = h.Vector(np.repeat(t, 2)[1:])
+        values = np.repeat(values, 2)[:-1] if values.size == t.size else values
+        kept.append(times_ms)
+    for sec in sections:
+        sec.insert("mn_syn")
+        for seg in sec:
+            seg.mn_syn.e, seg.mn_syn.g = SYNAPTIC_REVERSAL_MV, 0.0
+            g = h.Vector(values)
+            g.play(seg._ref_g_mn_syn, times_ms, 0 if events else 1)
+            kept.append(g)
+    return kept
+
+
 class Motoneuron:
     """The cell in NEURON (soma + dendrite); ``destroy()`` or ``with`` removes it."""
 
@@ -227,37 +267,44 @@ class Motoneuron:
         """Conduction delay (ms) from the soma to the muscle unit."""
         return self.params.axon_delay_ms
 
+    @property
+    def sections(self) -> list[Any]:
+        """The cell's sections: soma and dendrite."""
+        return [self.soma, self.dend]
+
+    @property
+    def v_rest_mV(self) -> float:
+        """The potential (mV) runs of the cell start from: the leak reversal."""
+        return self.params.e_leak_mV
+
     def membrane_area_um2(self) -> float:
         """Total membrane area of soma and dendrite (um2)."""
-        from neuron import h
-
-        return float(sum(h.area(seg.x, sec=seg.sec) for sec in (self.soma, self.dend) for seg in sec))
+        return membrane_area_um2(self.sections)
 
     def play_synaptic_conductance(self, times_ms: Any, conductance_uS: Any, events: bool = True) -> list[Any]:
-        """Excitatory synaptic conductance on the whole cell, reversal SYNAPTIC_REVERSAL_MV: ``conductance_uS`` (uS,
-        the cell's total, numbers) from each of ``times_ms`` (a hoc Vector, ms) to the next, spread uniformly
-        over the membrane of soma and dendrite (mod/mn_syn.mod, which NEURON and CoreNEURON both run; one Vector.play a
-        segment, its values set as events at those times, not interpolated every step).  events=False: a continuous
-        play of the same steps (each value held to the next time: CoreNEURON plays no events into a density
-        mechanism).  Returns the Vectors to keep alive."""
-        from neuron import h
+        """The common synaptic drive on soma and dendrite (``play_synaptic_conductance``); returns the Vectors
+        to keep alive."""
+        return play_synaptic_conductance(self.sections, times_ms, conductance_uS, events)
 
-        density = 100.0 / self.membrane_area_um2()   # S/cm2 per uS of the cell's total: 1e-6 S / (A um2 * 1e-8)
-        values = np.asarray(conductance_uS, float) * density
-        kept = []
-        if not events:  # each value held until the next time: two knots at every step
-            t = np.asarray(times_ms, float)
-            times_ms = h.Vector(np.repeat(t, 2)[1:])
-            values = np.repeat(values, 2)[:-1] if values.size == t.size else values
-            kept.append(times_ms)
-        for sec in (self.soma, self.dend):
-            sec.insert("mn_syn")
-            for seg in sec:
-                seg.mn_syn.e, seg.mn_syn.g = SYNAPTIC_REVERSAL_MV, 0.0
-                g = h.Vector(values)
-                g.play(seg._ref_g_mn_syn, times_ms, 0 if events else 1)
-                kept.append(g)
-        return kept
+    def recordables(self) -> dict[str, str]:
+        """The recordable variables (RECORDABLES) with their units."""
+        return dict(RECORDABLES)
+
+    def section_of(self, variable: str) -> Any:
+        """The section holding ``variable`` (one of RECORDABLES)."""
+        return self.dend if variable in ("v_dend", "i_pic") else self.soma
+
+    def ref(self, variable: str) -> Any:
+        """NEURON reference to ``variable`` (one of RECORDABLES); InputError naming the recordable ones."""
+        if variable not in RECORDABLES:
+            raise InputError(f"{self.name}: no variable {variable!r}; recordable: {', '.join(RECORDABLES)}")
+        seg = self.section_of(variable)(0.5)
+        if variable in ("v", "v_dend"):
+            return seg._ref_v
+        fused = self.channels == "fused"
+        if variable == "i_pic":
+            return seg.mn_pic._ref_i if fused else seg._ref_ica   # mn_cal is the dendrite's only calcium current
+        return seg.mn_soma._ref_cai if fused else seg._ref_cai
 
     def spike_source(self) -> Any:
         """The soma's membrane potential reference (a NetCon source; give ``section=self.soma``)."""

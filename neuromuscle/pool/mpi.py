@@ -16,6 +16,7 @@ import shutil
 import sys
 from importlib import metadata
 from pathlib import Path
+from typing import NoReturn
 
 from ..errors import InputError, NeuromuscleError
 
@@ -101,3 +102,16 @@ def init_mpi() -> tuple[int, int]:
                        f"found: MPI_LIB_NRN_PATH={os.environ.get('MPI_LIB_NRN_PATH')!r}); install the extra "
                        "(pip install -e '.[mpi]') or set MPI_LIB_NRN_PATH to libmpi.so")
     return rank, nhost
+
+
+def finish_mpi(code: int) -> NoReturn:
+    """Leave MPI cleanly on every rank (a barrier, then NEURON's ``pc.done()``) and exit the process with
+    ``code`` (NEURON's MPI does not end through the interpreter's normal exit)."""
+    from neuron import h
+
+    sys.stdout.flush()
+    sys.stderr.flush()
+    pc = h.ParallelContext()
+    pc.barrier()
+    pc.done()
+    os._exit(code)

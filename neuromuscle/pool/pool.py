@@ -4,7 +4,8 @@ delay), round-robin over MPI ranks.
 
     pool = Pool(PoolDefinition(100, load_parameters("CT09")), length=-8.0)
     pool.drive_synaptic([0, 2000, 4000], [0, 0.3, 0])            # a common synaptic conductance (uS a cell)
-    result = pool.run(4000.0)                                     # PoolResult: spikes, unit and pool force
+    pool.record(["mn.v", "act.A"], units=[0, 99])                 # any variable of chosen units (optional)
+    result = pool.run(4000.0)                                     # PoolResult: spikes, forces, recordings
     pool.destroy()
 
 Drives: ``drive_synaptic`` (a common excitatory synaptic conductance, uS, linear between the given times: the
@@ -13,6 +14,9 @@ same total on every motoneuron, spread over its membrane; the physiological driv
 (independent Poisson synaptic input per motoneuron, excitatory conductance), ``drive_discharges`` (recorded
 discharge times delivered to the muscle units: no motoneurons are built).  Length: one MuscleLength per rank
 shared by its units (``per_unit_length=False``) or one per unit; a float (mm) or a LengthTrace.
+
+Motoneurons: the built-in reduced cells, or any cell a factory builds (``cells``: ``pool.cells``, e.g.
+``reconstructed_cells`` for a morphology read from an SWC file with the channels you name).
 
 Muscle sections: all of a rank's muscle units sit on one section (the default, cheapest per fixed step), or each
 on its own with its own MuscleLength (``per_unit_section=True``): then NEURON's local variable time step
@@ -40,7 +44,8 @@ from ..sim.recordings import Recorder, on_time_grid
 from ..sim.simulator import ENGINES
 from ..validate import check_spike_times, finite_number, nonnegative_number, positive_number, seed_value
 from .definition import PoolDefinition, UnitSpec
-from .motoneuron import Motoneuron
+from .cells import CellFactory, MotoneuronCell, reduced_cells
+from .recording import PoolUnit, gather_recordings
 from .result import PoolResult
 
 #: NetCon threshold (mV) of the soma spike detector.
@@ -73,7 +78,7 @@ class Pool:
 
     def __init__(self, definition: PoolDefinition, *, length: LengthTrace | float = -8.0,
                  per_unit_length: bool = False, motoneurons: bool = True, per_unit_section: bool = False,
-                 engine: str = "neuron") -> None:
+                 engine: str = "neuron", cells: CellFactory | None = None) -> None:
         from ..model.mechanisms import load_mechanisms
 
         load_mechanisms()
@@ -100,11 +105,13 @@ class Pool:
             self._sec = h.Section(name=f"{definition.name}_muscle_r{self.rank}")
         self._lengths: list[Any] = []
         self.muscle: dict[int, MuscleUnit] = {}
-        self.cells: dict[int, Motoneuron] = {}
+        self.cells: dict[int, MotoneuronCell] = {}
+        make_cell = cells or reduced_cells(definition.motoneuron_channels)
         self._keep: list[Any] = []
         self._drive: str | None = None
         self._discharges: dict[int, np.ndarray] = {}
         self._unit_secs: list[Any] = []
+        self._record: tuple[tuple[str, ...], tuple[int, ...]] | None = None
         shared = None if self.per_unit_length else self._new_length(h, self._sec)
         pc.gid_clear()
         for u in self.specs:
@@ -119,14 +126,14 @@ class Pool:
                                               name=f"unit{u.index}")
             pc.set_gid2node(u.index, self.rank)
             if motoneurons:
-                cell = Motoneuron(u.motoneuron, name=f"mn{u.index}", channels=definition.motoneuron_channels)
+                cell = make_cell(u, f"mn{u.index}")
                 self.cells[u.index] = cell
                 det = h.NetCon(cell.spike_source(), None, sec=cell.soma)
                 det.threshold = SPIKE_THRESHOLD_MV
                 pc.cell(u.index, det)
                 for r in self.muscle[u.index].spike_receivers():
                     nc = pc.gid_connect(u.index, r)
-                    nc.delay, nc.weight[0] = u.motoneuron.axon_delay_ms, 1.0
+                    nc.delay, nc.weight[0] = cell.axon_delay_ms, 1.0
                     self._keep.append(nc)
                 self._keep.append(det)
         self._spike_t, self._spike_gid = h.Vector(), h.Vector()
@@ -180,7 +187,7 @@ class Pool:
         between times_ms, ms; held in SYNAPTIC_STEP_MS steps), spread uniformly over its soma and dendrite,
         reversal 0 mV.  The same input on every cell recruits the small cells first (their membrane is smaller:
         Henneman's size principle), and the conductance saturates the rates as the membrane depolarises towards
-        the reversal (Powers & Heckman 2017).  Motoneuron.play_synaptic_conductance does the wiring."""
+        the reversal (Powers & Heckman 2017).  The cell's play_synaptic_conductance does the wiring."""
         from neuron import h
 
         t = check_spike_times(times_ms, "synaptic drive times")
@@ -270,9 +277,50 @@ class Pool:
             self.muscle[u.index].add_spike_times(trains[u.index])
 
     # -- running -------------------------------------------------------------------------------------------
-    def run(self, duration_ms: float, simulator: Simulator | None = None, record_dt_ms: float = 1.0) -> PoolResult:
-        """Run 0..duration_ms (ms) and gather spikes and forces from every rank (every rank gets the result).
-        Unit forces sampled every record_dt_ms (ms); the pool force is their sum (N)."""
+    def record(self, names: Sequence[str], units: Sequence[int] | None = None) -> None:
+        """Record the variables ``names`` of the units ``units`` (indices; None: every unit) in the next runs,
+        every record_dt_ms like the forces: the muscle unit's by the single unit's names ("ca.CaSPT", "act.A",
+        "force.F"), the motoneuron's as "mn.v", "mn.v_dend", "mn.i_pic", "mn.cai" (``pool.recording``).  The
+        result holds them in ``recordings`` (gathered from every rank).  Call it on every rank: the names are
+        checked on the ranks holding the units, and every rank raises the same InputError."""
+        if self._record is not None:
+            raise InputError(f"pool {self.definition.name!r} already records {list(self._record[0])}: give every "
+                             "variable in one call")
+        if isinstance(names, str) or not all(isinstance(n, str) for n in names) or not names:
+            raise InputError(f"pool {self.definition.name!r}: recorded names must be a non-empty list of "
+                             f"'slot.variable' strings, got {names!r}")
+        if len(set(names)) != len(names):
+            raise InputError(f"pool {self.definition.name!r}: recorded names repeat: {list(names)}")
+        n = self.definition.n_units
+        chosen = list(range(n)) if units is None else list(units)
+        bad = [u for u in chosen if isinstance(u, bool) or not isinstance(u, (int, np.integer)) or not 0 <= u < n]
+        if bad or not chosen or len(set(chosen)) != len(chosen):
+            raise InputError(f"pool {self.definition.name!r}: recorded units must be distinct unit indices "
+                             f"0..{n - 1}, got {list(units) if units is not None else units!r}")
+        problem = None
+        for gid in [u for u in chosen if u in self.muscle] or list(self.muscle)[:1]:
+            known = self._probe(gid).recordables()
+            unknown = [x for x in names if x not in known]
+            if unknown:
+                problem = (f"pool {self.definition.name!r}, unit {gid}: cannot record {unknown}; recordable: "
+                           f"{', '.join(known)}")
+                break
+        problems = [p for p in parallel_context().py_allgather(problem) if p is not None]
+        if problems:
+            raise InputError(problems[0])
+        self._record = (tuple(names), tuple(sorted(int(u) for u in chosen)))
+
+    def _probe(self, gid: int) -> PoolUnit:
+        """Unit ``gid`` (on this rank) as the Recorder sees it."""
+        return PoolUnit(self.muscle[gid], self.cells.get(gid), f"pool {self.definition.name!r}, unit {gid}")
+
+    # -- running -------------------------------------------------------------------------------------------
+    def run(self, duration_ms: float, simulator: Simulator | None = None, record_dt_ms: float = 1.0,
+            progress: Callable[[float], None] | None = None) -> PoolResult:
+        """Run 0..duration_ms (ms) and gather spikes, forces and recordings from every rank (every rank gets the
+        result).  Unit forces sampled every record_dt_ms (ms); the pool force is their sum (N).  ``progress``:
+        called with the simulated time (ms) every tenth of the run under the fixed step (on every rank, so
+        that they stop together), at the end under CVODE."""
 
         positive_number("duration_ms", duration_ms)
         positive_number("record_dt_ms", record_dt_ms)
@@ -294,34 +342,56 @@ class Pool:
             sim = replace(sim, v_init_mV=-70.0)
         if self._drive == "current":
             self._attach_current(sim)
+        names, recorded = self._record or ((), ())
         # every step under CoreNEURON (and on several threads: see Recorder), at explicit sample times under CVODE
         stepwise = sim.method == "fixed" and (sim.nthread > 1 or sim.engine == "coreneuron")
-        recorders = {gid: Recorder(u, [u.output], record_dt_ms, every_step_dt_ms=sim.dt_ms if stepwise else None,
-                                   at_times_until_ms=duration_ms if sim.method == "cvode" else None)
-                     for gid, u in self.muscle.items()}
-        chunk = None
-        if stepwise and recorders:
-            steps_per_ms = len(recorders) / sim.dt_ms
-            chunk = max(record_dt_ms, STEP_RECORD_BUDGET_BYTES / (8.0 * steps_per_ms))
+        recorders = {}
+        for gid, u in self.muscle.items():
+            extra = [x for x in names if x != u.output] if gid in recorded else []
+            recorders[gid] = Recorder(self._probe(gid), [u.output, *extra], record_dt_ms,
+                                      every_step_dt_ms=sim.dt_ms if stepwise else None,
+                                      at_times_until_ms=duration_ms if sim.method == "cvode" else None)
         pc = parallel_context()
-        wall = sim.run(duration_ms, units=list(self.muscle.values()), chunk_ms=chunk,
-                       after_chunk=lambda: [r.take() for r in recorders.values()])
-        local_force = {gid: r.arrays(duration_ms)[1][self.muscle[gid].output] for gid, r in recorders.items()}
+        chunk = None
+        if stepwise:
+            # the fullest rank's recorded values per ms: every rank stops at the same times
+            steps_per_ms = pc.allreduce(sum(len(r.names) for r in recorders.values()) / sim.dt_ms, 2)
+            chunk = max(record_dt_ms, STEP_RECORD_BUDGET_BYTES / (8.0 * steps_per_ms))
+        if progress is not None and sim.method == "fixed":
+            chunk = min(chunk or np.inf, max(record_dt_ms, duration_ms / 10.0))
+
+        def after_chunk() -> None:
+            for r in recorders.values():
+                r.take()
+            if progress is not None:
+                from neuron import h
+
+                progress(float(h.t))
+
+        wall = sim.run(duration_ms, units=list(self.muscle.values()), chunk_ms=chunk, after_chunk=after_chunk)
+        if progress is not None and sim.method != "fixed":
+            progress(duration_ms)
+        traces = {gid: r.arrays(duration_ms)[1] for gid, r in recorders.items()}
+        local_force = {gid: traces[gid][self.muscle[gid].output] for gid in recorders}
+        local_recorded = {gid: ({x: traces[gid][x] for x in names},
+                                {x: recorders[gid].units[x] for x in names}) for gid in recorders if gid in recorded}
         if self._drive == "discharges":
             local_spikes = {gid: self._discharges[gid] for gid in self.muscle}
         else:
             t, g = np.array(self._spike_t), np.array(self._spike_gid).astype(int)
             local_spikes = {gid: np.sort(t[g == gid]) for gid in self.muscle}
-        gathered = pc.py_allgather((local_force, local_spikes, wall))
+        gathered = pc.py_allgather((local_force, local_spikes, local_recorded, wall))
         force: dict[int, np.ndarray] = {}
         spikes: dict[int, np.ndarray] = {}
-        for f, s, _ in gathered:
+        traced: dict[int, Any] = {}
+        for f, s, r, _ in gathered:
             force.update(f)
             spikes.update(s)
-        walls = [w for _, _, w in gathered]
+            traced.update(r)
+        walls = [w for *_, w in gathered]
         return PoolResult.from_gathered(self.definition, force, spikes, record_dt_ms, duration_ms, sim,
                                         drive=self._drive, ranks=self.nhost, wall_s=max(walls),
-                                        length=self.length)
+                                        length=self.length, recordings=gather_recordings(names, recorded, traced))
 
     def destroy(self) -> None:
         """Remove every NEURON object of the pool (idempotent)."""

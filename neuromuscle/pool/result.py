@@ -8,6 +8,8 @@ HDF5 layout (schema ``neuromuscle.pool/1``)::
     /unit_force_N     float64 (units, n)
     /spikes/unit_<i>  float64 (spike times, ms)
     /units            compound-free table: columns index, size, P0_N, axon_delay_ms, twitch_speed; attr types
+    /recordings/<var> float64 (recorded units, n) of each recorded variable (Pool.record), e.g. "mn.v";
+                      attrs unit (of measure), units (JSON list of unit indices); absent when nothing was recorded
 """
 
 from __future__ import annotations
@@ -23,13 +25,15 @@ import numpy as np
 from ..reports.outdir import atomic_path, refuse_existing_file
 from ..sim.provenance import provenance
 from ..sim.results import open_with_schema
+from .recording import Recording
 
 SCHEMA = "neuromuscle.pool/1"
 
 
 @dataclass
 class PoolResult:
-    """Spikes (ms) and force (N) of every unit, sampled at ``t_ms``; ``units`` the unit table (one dict a unit)."""
+    """Spikes (ms) and force (N) of every unit, sampled at ``t_ms``; ``units`` the unit table (one dict a unit);
+    ``recordings`` the variables recorded by ``Pool.record`` (by name), sampled at ``t_ms``."""
 
     t_ms: np.ndarray
     unit_force_N: np.ndarray
@@ -39,6 +43,7 @@ class PoolResult:
     ranks: int = 1
     wall_s: float = float("nan")
     provenance: dict[str, Any] = field(default_factory=dict)
+    recordings: dict[str, Recording] = field(default_factory=dict)
 
     @property
     def pool_force_N(self) -> np.ndarray:
@@ -58,7 +63,8 @@ class PoolResult:
     @classmethod
     def from_gathered(cls, definition: Any, force: Mapping[int, np.ndarray], spikes: Mapping[int, np.ndarray],
                       record_dt_ms: float, duration_ms: float, sim: Any, *, drive: str, ranks: int,
-                      wall_s: float, length: Any) -> PoolResult:
+                      wall_s: float, length: Any, recordings: Mapping[str, Recording] | None = None
+                      ) -> PoolResult:
         """Assemble from the per-gid dicts gathered from every rank."""
         specs = definition.units()
         f = np.array([force[u.index] for u in specs])
@@ -72,7 +78,7 @@ class PoolResult:
                           motoneuron_channels=definition.motoneuron_channels,
                           length_mm=(length if isinstance(length, float) else getattr(length, "name", "trace")))
         return cls(t, f, [np.asarray(spikes[u.index], float) for u in specs], [u.row() for u in specs], drive,
-                   ranks, wall_s, prov)
+                   ranks, wall_s, prov, dict(recordings or {}))
 
     def save(self, path: str | Path, overwrite: bool = False) -> Path:
         """Write to HDF5 (schema above); refuses to replace an existing file unless overwrite."""
@@ -93,7 +99,20 @@ class PoolResult:
             for col in ("index", "size", "P0_N", "axon_delay_ms", "twitch_speed"):
                 u.create_dataset(col, data=np.array([r[col] for r in self.units], dtype=float))
             u.attrs["types"] = json.dumps([r["type"] for r in self.units])
+            if self.recordings:
+                g = f.create_group("recordings")
+                for name, rec in self.recordings.items():
+                    d = g.create_dataset(name, data=rec.values, compression="gzip")
+                    d.attrs["unit"] = rec.unit
+                    d.attrs["units"] = json.dumps(rec.units)
         return path
+
+    def save_nwb(self, path: str | Path, overwrite: bool = False, **metadata: Any) -> Path:
+        """Write as NWB (``neuromuscle.pool.nwb.write_pool_nwb``; ``metadata`` goes there); refuses to replace an
+        existing file unless overwrite."""
+        from .nwb import write_pool_nwb
+
+        return write_pool_nwb(self, path, overwrite=overwrite, **metadata)
 
     def figure(self, path: str | Path, title: str = "") -> Path:
         """Summary figure: raster, discharge rates, unit forces and pool force (PNG)."""
@@ -126,6 +145,9 @@ def load_pool_result(path: str | Path) -> PoolResult:
         cols = {c: f["units"][c][()] for c in f["units"]}
         units = [{"index": int(cols["index"][i]), "type": types[i],
                   **{c: float(cols[c][i]) for c in cols if c != "index"}} for i in range(len(types))]
+        recordings = {name: Recording(name, str(d.attrs["unit"]), json.loads(d.attrs["units"]), d[()])
+                      for name, d in f.get("recordings", {}).items()}
         return PoolResult(f["t_ms"][()], f["unit_force_N"][()],
                           [f["spikes"][f"unit_{i}"][()] for i in range(len(types))], units, str(f.attrs["drive"]),
-                          int(f.attrs["ranks"]), float(f.attrs["wall_s"]), json.loads(f.attrs["provenance"]))
+                          int(f.attrs["ranks"]), float(f.attrs["wall_s"]), json.loads(f.attrs["provenance"]),
+                          recordings)

@@ -23,15 +23,15 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import resource
 import sys
 import time
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 from ..sim.simulator import ENGINES
 from .motoneuron import CHANNELS
+from .mpi import finish_mpi
 
 _START = time.perf_counter()
 
@@ -128,46 +128,68 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
     from ..parameters import load_parameters
     from ..sim import Simulator
     from .definition import PoolDefinition
-    from .pool import Pool, parallel_context
+    from .drives import Drive
 
     if nhost > cfg.n_units:
         raise InputError(f"{nhost} MPI ranks for a pool of {cfg.n_units} units: use at most one rank per unit")
     definition = PoolDefinition(cfg.n_units, load_parameters(cfg.params), smallest_p0_N=cfg.smallest_p0_N,
                                 p0_range=cfg.p0_range, muscle_model=cfg.muscle, muscle_substeps=cfg.substeps,
                                 motoneuron_channels=cfg.channels)
-    definition.units()
     sim = Simulator(method=cfg.method, dt_ms=cfg.dt_ms, atol=cfg.atol, v_init_mV=-70.0, max_wall_s=None,
                     local_dt=cfg.local_dt, nthread=cfg.nthread, label=f"pool of {cfg.n_units} units",
                     engine=cfg.engine)
-    from ..model.mechanisms import coreneuron_library, load_mechanisms
+    if cfg.drive == "poisson":
+        drive = Drive("poisson", rate_hz=cfg.rate_hz, weight_uS=cfg.weight_uS, seed=cfg.seed)
+    elif cfg.drive == "synaptic":
+        drive = Drive.rise("synaptic", cfg.synaptic_peak_uS, cfg.duration_ms)
+    else:
+        drive = Drive.rise("current", cfg.ramp_peak_nA, cfg.duration_ms)
+    result, report = run_definition(definition, drive, sim, cfg.duration_ms, nhost, length=cfg.length_mm,
+                                    record_dt_ms=cfg.record_dt_ms)
+    report.update({"muscle": cfg.muscle, "substeps": cfg.substeps, "nthread": cfg.nthread,
+                   "channels": cfg.channels, "drive": cfg.drive})
+    return result, report
 
+
+def run_definition(definition: Any, drive: Any, sim: Any, duration_ms: float, nhost: int = 1, *,
+                   length: Any = -8.0, record_dt_ms: float = 1.0, recordings: tuple[Any, Any] | None = None,
+                   progress: Callable[[float], None] | None = None, cells: Any = None) -> tuple[Any, dict[str, Any]]:
+    """Build the pool of ``definition`` on this rank, give it ``drive`` (a pool.drives.Drive), record
+    ``recordings`` ((variable names, unit indices): ``Pool.record``), run it for ``duration_ms`` (ms) with the
+    Simulator ``sim`` and gather the PoolResult on every rank; ``progress(t_ms)`` is called as the run advances
+    (fixed step); ``cells``: the motoneurons' factory (``pool.cells``; None: the reduced cells).  Returns the
+    result and the timing report (module docstring; units s, ms, MiB, N, Hz)."""
+    from ..errors import InputError
+    from ..model.mechanisms import coreneuron_library, load_mechanisms
+    from .pool import Pool, parallel_context
+
+    if nhost > definition.n_units:
+        raise InputError(f"{nhost} MPI ranks for a pool of {definition.n_units} units: use at most one rank per unit")
+    definition.units()
     load_mechanisms()
-    if cfg.engine == "coreneuron":
+    if sim.engine == "coreneuron":
         coreneuron_library()  # compiled (or found) before the clock starts
     pc = parallel_context()
     pc.barrier()
     startup = time.perf_counter() - _START
     t0 = time.perf_counter()
-    with Pool(definition, length=cfg.length_mm, per_unit_section=cfg.local_dt, engine=cfg.engine) as pool:
-        if cfg.drive == "poisson":
-            pool.drive_poisson(cfg.rate_hz, cfg.weight_uS, seed=cfg.seed)
-        elif cfg.drive == "synaptic":
-            pool.drive_synaptic([0.0, cfg.duration_ms], [0.0, cfg.synaptic_peak_uS])
-        else:
-            pool.drive_current_ramp([0.0, cfg.duration_ms], [0.0, cfg.ramp_peak_nA])
+    with Pool(definition, length=length, per_unit_section=sim.local_dt, engine=sim.engine, cells=cells) as pool:
+        drive.apply(pool)
+        if recordings is not None:
+            pool.record(*recordings)
         build = max(pc.py_allgather(time.perf_counter() - t0))
-        result = pool.run(cfg.duration_ms, sim, record_dt_ms=cfg.record_dt_ms)
+        result = pool.run(duration_ms, sim, record_dt_ms=record_dt_ms, progress=progress)
     wall = time.perf_counter() - t0
     rss = [float(x) for x in pc.py_allgather(peak_rss_mib())]
-    unit_s = cfg.n_units * cfg.duration_ms / 1000.0
-    report = {"n_units": cfg.n_units, "ranks": nhost, "duration_ms": cfg.duration_ms,
-              "dt_ms": cfg.dt_ms if cfg.method == "fixed" else None, "method": cfg.method, "engine": cfg.engine,
-              "muscle": cfg.muscle,
-              "substeps": cfg.substeps, "nthread": cfg.nthread, "channels": cfg.channels,
-              "local_dt": cfg.local_dt, "drive": cfg.drive,
-              "startup_s": startup, "build_s": build, "sim_s": result.wall_s, "wall_s": wall,
-              "s_per_unit_s": result.wall_s / unit_s, "spikes": int(sum(s.size for s in result.spikes_ms)),
-              "mean_rate_hz": sum(s.size for s in result.spikes_ms) / unit_s,
+    n = definition.n_units
+    unit_s = n * duration_ms / 1000.0
+    spikes = int(sum(s.size for s in result.spikes_ms))
+    report = {"n_units": n, "ranks": nhost, "duration_ms": duration_ms,
+              "dt_ms": sim.dt_ms if sim.method == "fixed" else None, "method": sim.method, "engine": sim.engine,
+              "muscle": definition.muscle_model, "substeps": int(definition.muscle_substeps),
+              "nthread": sim.nthread, "channels": definition.motoneuron_channels, "local_dt": sim.local_dt,
+              "drive": drive.kind, "startup_s": startup, "build_s": build, "sim_s": result.wall_s, "wall_s": wall,
+              "s_per_unit_s": result.wall_s / unit_s, "spikes": spikes, "mean_rate_hz": spikes / unit_s,
               "peak_rss_mib": max(rss), "peak_rss_mib_per_rank": rss,
               "pool_force_peak_N": float(result.pool_force_N.max())}
     return result, report
@@ -198,17 +220,5 @@ def main(argv: Sequence[str] | None = None) -> int:
     return 0
 
 
-def _finish(code: int) -> None:
-    """Leave MPI cleanly (every rank) and exit with ``code``."""
-    from neuron import h
-
-    sys.stdout.flush()
-    sys.stderr.flush()
-    pc = h.ParallelContext()
-    pc.barrier()
-    pc.done()
-    os._exit(code)
-
-
 if __name__ == "__main__":
-    _finish(main())
+    finish_mpi(main())

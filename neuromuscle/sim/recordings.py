@@ -29,6 +29,10 @@ def sample_times_ms(record_dt_ms: float, n: int) -> np.ndarray:
 class Recorder:
     """Vectors recording the named variables of one unit every ``record_dt_ms`` (ms) from t = 0.
 
+    The unit is anything with ``name``, ``recordables()`` ({name: unit}), ``ref(name)`` (the NEURON reference)
+    and ``owner(name)`` (the point process or section holding the variable): a MuscleUnit, or a pool's unit
+    with its motoneuron (``neuromuscle.pool.recording``).
+
     With ``every_step_dt_ms`` (the fixed step, ms) NEURON records every step and the samples are taken every
     record_dt_ms afterwards: with more than one thread, NEURON 9's interval recording samples the variables of
     the second thread at the wrong moments (measured in tests/model/test_unit.py), stepwise recording does not;
@@ -38,7 +42,7 @@ class Recorder:
 
     def __init__(self, unit: Any, names: Sequence[str], record_dt_ms: float,
                  every_step_dt_ms: float | None = None, at_times_until_ms: float | None = None) -> None:
-        from neuron import h
+        from neuron import h, nrn
 
         if len(set(names)) != len(names):
             raise InputError(f"recorded names repeat: {list(names)}")
@@ -67,14 +71,14 @@ class Recorder:
             # accumulated time, k * 0.025 ms, falls a rounding error short of a time where the integrator stopped
             self._tvec = h.Vector(sample_times_ms(record_dt_ms, sample_count(at_times_until_ms, record_dt_ms)))
         for n, v in self._vectors.items():
-            # the point process first: it tells NEURON which thread owns the variable
-            owner = unit[n.partition(".")[0]].obj
-            if self._tvec is not None:
-                v.record(owner, unit.ref(n), self._tvec)
-            elif every_step_dt_ms is None:
-                v.record(owner, unit.ref(n), record_dt_ms)
+            when = (self._tvec,) if self._tvec is not None else (record_dt_ms,) if every_step_dt_ms is None else ()
+            # the owner first (a point process, or the section of a membrane variable): it tells NEURON which
+            # thread owns the variable
+            owner = unit.owner(n)
+            if isinstance(owner, nrn.Section):
+                v.record(unit.ref(n), *when, sec=owner)
             else:
-                v.record(owner, unit.ref(n))
+                v.record(owner, unit.ref(n), *when)
 
     def arrays(self, duration_ms: float) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         """Sample times (ms) k * record_dt_ms for k = 0 .. floor(duration_ms / record_dt_ms), the end included

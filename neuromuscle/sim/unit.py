@@ -213,6 +213,10 @@ class MuscleUnit:
             raise InputError(f"{self.name}: a recorded name is 'slot.variable', got {name!r}")
         return self[slot].ref(var)
 
+    def owner(self, name: str) -> Any:
+        """The point process holding ``"slot.variable"`` (what NEURON's Vector.record needs besides the reference)."""
+        return self[name.partition(".")[0]].obj
+
     def recordables(self) -> dict[str, str]:
         """Every recordable ``slot.variable`` of this unit with its unit."""
         return {f"{s}.{v}": u for s, c in self.components.items() for v, u in c.recordables().items()}
