@@ -2,7 +2,7 @@
 
 Writes into DIR (refused when DIR already holds a report, unless overwrite; checked before any work):
 
-* ``diagnosis.json``  schema ``neuromuscle.diagnosis/1``: ``verdict`` (the first cause named, or none /
+* ``diagnosis.json``  schema ``neuromuscle.diagnosis/2``: ``verdict`` (the first cause named, or none /
   unexplained), ``named`` (every cause in order, each with its held-out gain over the model before it, then
   "unexplained" when structure remains), every step of the forward selection with its candidates and their
   evidence, untestable causes, the baseline (parameters, free and held ones, convergence, NRMSE per trial), the
@@ -36,7 +36,7 @@ from .rules import RULES
 from .screening import COLUMN_DT_MS
 from .selection import Candidate, Step
 
-SCHEMA = "neuromuscle.diagnosis/1"
+SCHEMA = "neuromuscle.diagnosis/2"
 REPORT_FILES: tuple[str, ...] = ("diagnosis.json", "report.md", "params.json")
 #: Figures per named cause.
 FIGURES_PER_STEP = 3
