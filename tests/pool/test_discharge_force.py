@@ -1,0 +1,71 @@
+"""Force from a discharge file, end to end: both models fitted on the first half, HDF5 with provenance (parameters,
+versions, mechanism hash, input file and its hash), figure and summary; a bad file is refused writing nothing."""
+
+import hashlib
+import json
+
+import h5py
+import numpy as np
+import pytest
+import scipy.io
+
+from neuromuscle.errors import InputError
+from neuromuscle.pool.discharge_force import FILES, read_discharges, run_discharges
+
+FS = 2048.0
+
+
+def small_caillet(path, seconds: float = 5.0, seed: int = 2):
+    """A Caillet-layout file: 4 units recruited in turn on a trapezoid, force a smoothed sum of their activity."""
+    rng = np.random.default_rng(seed)
+    n = int(seconds * FS)
+    t = np.arange(n) / FS
+    ramp = np.clip(np.minimum(t - 0.5, seconds - 0.5 - t) / 1.5, 0.0, 1.0)
+    pulses = np.empty((1, 4), dtype=object)
+    rate = np.zeros(n)
+    for i in range(4):
+        on = ramp > 0.2 * i
+        times, s = [], 0.0
+        while s < seconds:
+            s += 1.0 / (8.0 + 6.0 * ramp[min(int(s * FS), n - 1)]) + rng.normal(0.0, 0.004)
+            if s < seconds and on[min(int(s * FS), n - 1)]:
+                times.append(s)
+        k = np.unique(np.round(np.array(times) * FS).astype(int) + 1)
+        pulses[0, i] = k[None, :]
+        rate += np.convolve(np.bincount(k - 1, minlength=n)[:n].astype(float), np.hanning(400), "same")
+    force = 0.9 + 0.05 * rate / rate.max() + rng.normal(0.0, 1e-4, n)
+    scipy.io.savemat(path, {"MUPulses": pulses, "fsamp": np.array([[FS]]), "ref_signal": force[None, :]})
+    return path
+
+
+def test_run_writes_both_fits_with_provenance(tmp_path):
+    src = small_caillet(tmp_path / "X_20.mat")
+    s = run_discharges(src, tmp_path / "out", dt_ms=0.1)
+    assert s["units"] == 4 and s["level_percent_mvc"] == 20.0
+    for model in ("human_units", "twitch_sum"):
+        assert s[model]["nrmse_heldout_percent"] < 30.0 and s[model]["nrmse_calibration_percent"] < 30.0
+    for name in FILES:
+        assert (tmp_path / "out" / name).stat().st_size > 500
+    with h5py.File(tmp_path / "out" / FILES[0], "r") as f:
+        prov = json.loads(f.attrs["provenance"])
+        assert prov["input_sha256"] == hashlib.sha256(src.read_bytes()).hexdigest()
+        assert prov["input_file"].endswith("X_20.mat") and len(prov["mechanism_sha256"]) == 64
+        assert prov["parameters"]["kim_m3.P0"] > 0 and "neuron" in prov["versions"]
+        assert json.loads(f.attrs["human_units_fit"])["nrmse_heldout_percent"] == pytest.approx(
+            s["human_units"]["nrmse_heldout_percent"])
+        assert f["predicted_force_human_units"].shape == f["recorded_force"].shape == f["t_ms"].shape
+        assert len(f["discharges_ms"]) == 4 and np.all(np.diff(f["threshold_percent_mvc"][()]) >= 0)
+    # an existing report is not replaced
+    with pytest.raises(InputError, match="refusing to overwrite"):
+        run_discharges(src, tmp_path / "out", dt_ms=0.1)
+
+
+def test_bad_file_is_refused_and_nothing_is_written(tmp_path):
+    scipy.io.savemat(tmp_path / "Y_30.mat", {"fsamp": np.array([[FS]]), "ref_signal": np.zeros((1, 100))})
+    with pytest.raises(InputError, match=r"Y_30\.mat: field 'MUPulses' is missing"):
+        run_discharges(tmp_path / "Y_30.mat", tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+    with pytest.raises(InputError, match=r"Y_30\.csv: cannot tell the format"):
+        read_discharges(tmp_path / "Y_30.csv")
+    with pytest.raises(InputError, match="format must be one of"):
+        read_discharges(tmp_path / "Y_30.mat", fmt="excel")
