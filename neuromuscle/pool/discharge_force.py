@@ -66,11 +66,20 @@ def file_sha256(path: str | Path) -> str:
     return h.hexdigest()
 
 
-def fit_both(trial: DischargeTrial, thresholds_percent_mvc: np.ndarray, *, calibration_fraction: float = 0.5,
-             dt_ms: float = 0.05, speeds: tuple[float, ...] = SPEED_GRID
-             ) -> tuple[np.ndarray, np.ndarray, HumanUnitFit, TwitchSumFit]:
-    """Both models fitted on the first ``calibration_fraction`` of ``trial`` (thresholds in % MVC, recruitment
-    order); returns (t_ms, recorded force % MVC, human-unit fit, twitch-sum fit)."""
+def calibration_thresholds(trial: DischargeTrial, split_ms: float) -> np.ndarray:
+    """Each unit's recruitment threshold (% MVC, recruitment order) read from the calibration window only: the
+    recorded force at its first discharge, or for a unit first discharging after ``split_ms`` (ms) the highest
+    force of the window (it was recruited above everything the window saw)."""
+    first = np.array([d[0] for d in trial.discharges_ms])
+    cal = trial.force_t_ms < split_ms
+    top = float(trial.force_percent_mvc[cal].max()) if cal.any() else 0.0
+    return np.where(first < split_ms, trial.force_at(first), top)
+
+
+def fit_both(trial: DischargeTrial, *, calibration_fraction: float = 0.5, dt_ms: float = 0.05,
+             speeds: tuple[float, ...] = SPEED_GRID) -> tuple[np.ndarray, np.ndarray, HumanUnitFit, TwitchSumFit]:
+    """Both models fitted on the first ``calibration_fraction`` of ``trial`` (thresholds from that window:
+    :func:`calibration_thresholds`); returns (t_ms, recorded force % MVC, human-unit fit, twitch-sum fit)."""
     if not 0.05 <= calibration_fraction <= 0.95:
         raise InputError(f"calibration fraction must lie in [0.05, 0.95], got {calibration_fraction}")
     bases = speed_bases(trial.discharges_ms, trial.duration_ms, load_parameters(BASE_SET), speeds=speeds,
@@ -79,7 +88,7 @@ def fit_both(trial: DischargeTrial, thresholds_percent_mvc: np.ndarray, *, calib
     y = trial.force_at(t)
     split = calibration_fraction * trial.duration_ms
     windows = {"calibration_ms": (0.0, split), "heldout_ms": (split, float(t[-1]) + 1.0)}
-    human = fit_human_units(bases, thresholds_percent_mvc, y, **windows)
+    human = fit_human_units(bases, calibration_thresholds(trial, split), y, **windows)
     n = len(trial.discharges_ms)
     rank = np.arange(n) / max(n - 1, 1)
     reference = fit_twitch_sum(trial.discharges_ms, t, rank, y, **windows)
@@ -144,9 +153,9 @@ def run_discharges(path: str | Path, out: str | Path, *, fmt: str = "auto", leve
     check_out_dir(out, overwrite, FILES)
     rec = read_discharges(path, fmt, level_percent_mvc)
     trial = rec.trial(pad_ms=1000.0)
-    thresholds = rec.thresholds_percent_mvc()[trial.units]
+    thresholds = calibration_thresholds(trial, calibration_fraction * trial.duration_ms)
     t0 = time.time()
-    t, y, human, reference = fit_both(trial, thresholds, calibration_fraction=calibration_fraction, dt_ms=dt_ms)
+    t, y, human, reference = fit_both(trial, calibration_fraction=calibration_fraction, dt_ms=dt_ms)
     outdir = prepare_out_dir(out, overwrite, FILES)
     src = Path(path)
     summary = {"file": src.name, "units": len(trial.discharges_ms), "level_percent_mvc": rec.level_percent_mvc,

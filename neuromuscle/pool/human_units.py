@@ -3,7 +3,11 @@ threshold (% MVC), fitted per recording on a calibration window.
 
 Model: unit i with recruitment threshold th_i (% MVC, the recorded force at its first discharge) is a Kim muscle unit
 (base set CT09, isometric) whose Modules 1-2 run ``speed_i = S0 * RS ** (th_i / 100)`` times faster than CT09 (the
-twitch time to peak, about 81 ms at speed 1, shrinks as 1 / speed) and whose P0 is ``RP ** (th_i / 100)`` (relative).
+twitch time to peak, about 81 ms at speed 1, shrinks as 1 / speed) and whose force is ``RP ** (th_i / 100)``
+(relative) times ``gap_i ** W``.  The recorded units are a sample of the pool: unit i stands for the pool's units
+whose thresholds lie nearer to its own than to its recorded neighbours', a threshold interval of ``gap_i`` % MVC
+(:func:`represented_gaps`; the lowest unit's reaches down to 0 % MVC, so it stands for the unrecorded units recruited
+before it); W = 1 is a pool spread uniformly over thresholds, W = 0 gives every recorded unit the same weight.
 The rate-dependent gain is the one Modules 1-2 give: no separate force-rate curve.  The predicted force is
 ``scale * sum_i P0_i g_i(t - delay; speed_i) + offset``, g_i being unit i's force per newton of P0 under its
 recorded discharges.
@@ -24,6 +28,7 @@ Priors (uniform over the ranges of :data:`BOUNDS`), from published human motor-u
 - RP: twitch force grows with recruitment threshold (Desmedt & Godaux 1977, J Physiol 264:673; Milner-Brown, Stein
   & Yemm 1973, J Physiol 230:359) over a 10- to 100-fold range across the pool (Fuglevand et al. 1993): RP in
   1..300 per 100 % MVC of threshold.
+- W: 0..2, how the sample stands for the pool (no published prior: a property of the decomposition's sample).
 - delay: 0..200 ms between the decomposed discharges and the transducer force.
 
 Intervals: each parameter's 95 % interval from the curvature of the calibration cost at the fit (Gauss-Newton),
@@ -47,9 +52,13 @@ from .window_fit import WindowScores, bounded_minimize, linear_scale_offset, win
 #: Twitch speeds (relative to CT09) at which every unit's force is simulated; between them it is interpolated.
 SPEED_GRID = (0.65, 0.95, 1.4, 2.1, 3.2)
 #: (low, high, logarithmic) of the fitted parameters: the priors of the module docstring.
-BOUNDS = {"S0": (0.65, 2.0, True), "RS": (1.0, 3.0, True), "RP": (1.0, 300.0, True), "delay_ms": (0.0, 200.0, False)}
+BOUNDS = {"S0": (0.65, 2.0, True), "RS": (1.0, 3.0, True), "RP": (1.0, 300.0, True), "W": (0.0, 2.0, False),
+          "delay_ms": (0.0, 200.0, False)}
 #: Starting points of the search.
-STARTS = ({"S0": 1.0, "RS": 1.5, "RP": 10.0, "delay_ms": 40.0}, {"S0": 1.6, "RS": 1.2, "RP": 2.0, "delay_ms": 20.0})
+STARTS = ({"S0": 1.0, "RS": 1.5, "RP": 10.0, "W": 1.0, "delay_ms": 40.0},
+          {"S0": 1.6, "RS": 1.2, "RP": 2.0, "W": 0.3, "delay_ms": 20.0})
+#: Smallest threshold interval (% MVC) a recorded unit stands for (units recruited at the same force).
+MIN_GAP_PERCENT_MVC = 0.25
 
 
 @dataclass(frozen=True)
@@ -86,12 +95,25 @@ def speed_bases(discharges_ms: Sequence[np.ndarray], duration_ms: float, muscle:
     return SpeedBases(np.asarray(t), sp, np.stack(out))
 
 
-def unit_properties(thresholds_percent_mvc: np.ndarray, s0: float, rs: float, rp: float
+def represented_gaps(thresholds_percent_mvc: np.ndarray) -> np.ndarray:
+    """The threshold interval (% MVC) each recorded unit stands for: from the midpoint to the next lower recorded
+    threshold (0 for the lowest) to the midpoint to the next higher one (for the highest, as far above it as the
+    lower midpoint is below), shared equally by units recruited at the same threshold; at least
+    :data:`MIN_GAP_PERCENT_MVC`.  Any order of units."""
+    th = np.asarray(thresholds_percent_mvc, float)
+    u, inverse, counts = np.unique(th, return_inverse=True, return_counts=True)
+    mids = np.concatenate([[0.0], 0.5 * (u[1:] + u[:-1])])
+    gaps = np.diff(np.append(mids, u[-1] + (u[-1] - mids[-1])))
+    return np.maximum(gaps[inverse] / counts[inverse], MIN_GAP_PERCENT_MVC)
+
+
+def unit_properties(thresholds_percent_mvc: np.ndarray, s0: float, rs: float, rp: float, w: float = 0.0
                     ) -> tuple[np.ndarray, np.ndarray]:
-    """(speed, relative P0) of units with these recruitment thresholds (% MVC): S0 * RS ** (th / 100) and
-    RP ** (th / 100)."""
-    x = np.asarray(thresholds_percent_mvc, float) / 100.0
-    return s0 * rs ** x, rp ** x
+    """(speed, relative force) of units with these recruitment thresholds (% MVC): S0 * RS ** (th / 100) and
+    RP ** (th / 100) * gap ** W (gap: :func:`represented_gaps`)."""
+    th = np.asarray(thresholds_percent_mvc, float)
+    x = th / 100.0
+    return s0 * rs ** x, rp ** x * (represented_gaps(th) ** w if w else 1.0)
 
 
 def _delayed(t_ms: np.ndarray, h: np.ndarray, delay_ms: float) -> np.ndarray:
@@ -117,7 +139,7 @@ class HumanUnitFit(WindowScores):
 
 
 def _predict(bases: SpeedBases, th: np.ndarray, p: dict[str, float]) -> np.ndarray:
-    speeds, p0 = unit_properties(th, p["S0"], p["RS"], p["RP"])
+    speeds, p0 = unit_properties(th, p["S0"], p["RS"], p["RP"], p["W"])
     return _delayed(bases.t_ms, p0 @ bases.at(speeds), p["delay_ms"])
 
 
@@ -149,7 +171,7 @@ def _intervals(bases: SpeedBases, th: np.ndarray, y: np.ndarray, cal: np.ndarray
 
 def fit_human_units(bases: SpeedBases, thresholds_percent_mvc: Sequence[float], target: Sequence[float], *,
                     calibration_ms: tuple[float, float], heldout_ms: tuple[float, float]) -> HumanUnitFit:
-    """Fit S0, RS, RP, delay (within the priors), scale and offset (module docstring) to ``target`` (% MVC at
+    """Fit S0, RS, RP, W, delay (within the priors), scale and offset (module docstring) to ``target`` (% MVC at
     ``bases.t_ms``) on ``calibration_ms``; NRMSE there and on ``heldout_ms`` ([start, end) ms)."""
     t = bases.t_ms
     y = finite_series("target force", target)
@@ -170,7 +192,7 @@ def fit_human_units(bases: SpeedBases, thresholds_percent_mvc: Sequence[float], 
     scale, offset = linear_scale_offset(h[cal], y[cal])
     if scale <= 0:
         raise InputError("the calibration found no positive unit force: the force does not follow the discharges")
-    speeds, p0 = unit_properties(th, best["S0"], best["RS"], best["RP"])
+    speeds, p0 = unit_properties(th, best["S0"], best["RS"], best["RP"], best["W"])
     return HumanUnitFit(**window_scores(t, y, scale * h + offset, calibration_ms, heldout_ms), params=best,
                         intervals=_intervals(bases, th, y, cal, best), scale=scale, offset=offset, speeds=speeds,
                         p0=p0)
