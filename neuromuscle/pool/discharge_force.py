@@ -19,6 +19,7 @@ from __future__ import annotations
 import hashlib
 import json
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +28,7 @@ import numpy as np
 from ..errors import InputError
 from ..parameters import load_parameters
 from .discharges import DischargeTrial, RecordedDischarges, load_caillet
-from .human_units import SPEED_GRID, HumanUnitFit, fit_human_units, speed_bases
+from .human_units import SPEED_GRID, HumanUnitFit, SpeedBases, fit_human_units, speed_bases
 from .openhdemg_files import KINDS, load_openhdemg
 from .twitch_sum import TwitchSumFit, fit_twitch_sum
 
@@ -76,10 +77,28 @@ def calibration_thresholds(trial: DischargeTrial, split_ms: float) -> np.ndarray
     return np.where(first < split_ms, trial.force_at(first), top)
 
 
+@dataclass(frozen=True)
+class DischargeFits:
+    """Both models fitted on one trial: the trial, its unit forces at every grid speed, the thresholds (% MVC,
+    from the calibration window), the recorded force (% MVC) at ``bases.t_ms`` and the two fits."""
+
+    trial: DischargeTrial
+    bases: SpeedBases
+    thresholds_percent_mvc: np.ndarray
+    recorded: np.ndarray
+    human: HumanUnitFit
+    reference: TwitchSumFit
+
+    @property
+    def t_ms(self) -> np.ndarray:
+        """Sample times (ms from the trial's start)."""
+        return self.bases.t_ms
+
+
 def fit_both(trial: DischargeTrial, *, calibration_fraction: float = 0.5, dt_ms: float = 0.05,
-             speeds: tuple[float, ...] = SPEED_GRID) -> tuple[np.ndarray, np.ndarray, HumanUnitFit, TwitchSumFit]:
+             speeds: tuple[float, ...] = SPEED_GRID) -> DischargeFits:
     """Both models fitted on the first ``calibration_fraction`` of ``trial`` (thresholds from that window:
-    :func:`calibration_thresholds`); returns (t_ms, recorded force % MVC, human-unit fit, twitch-sum fit)."""
+    :func:`calibration_thresholds`)."""
     if not 0.05 <= calibration_fraction <= 0.95:
         raise InputError(f"calibration fraction must lie in [0.05, 0.95], got {calibration_fraction}")
     bases = speed_bases(trial.discharges_ms, trial.duration_ms, load_parameters(BASE_SET), speeds=speeds,
@@ -88,11 +107,15 @@ def fit_both(trial: DischargeTrial, *, calibration_fraction: float = 0.5, dt_ms:
     y = trial.force_at(t)
     split = calibration_fraction * trial.duration_ms
     windows = {"calibration_ms": (0.0, split), "heldout_ms": (split, float(t[-1]) + 1.0)}
-    human = fit_human_units(bases, calibration_thresholds(trial, split), y, **windows)
-    n = len(trial.discharges_ms)
-    rank = np.arange(n) / max(n - 1, 1)
-    reference = fit_twitch_sum(trial.discharges_ms, t, rank, y, **windows)
-    return t, y, human, reference
+    thresholds = calibration_thresholds(trial, split)
+    human = fit_human_units(bases, thresholds, y, **windows)
+    reference = fit_twitch_sum(trial.discharges_ms, t, recruitment_rank(len(trial.discharges_ms)), y, **windows)
+    return DischargeFits(trial, bases, thresholds, y, human, reference)
+
+
+def recruitment_rank(n_units: int) -> np.ndarray:
+    """Positions 0..1 of ``n_units`` units in recruitment order (the twitch sum's x)."""
+    return np.arange(n_units) / max(n_units - 1, 1)
 
 
 def _figure(path: Path, name: str, trial: DischargeTrial, t_ms: np.ndarray, y: np.ndarray, human: HumanUnitFit,
@@ -153,9 +176,10 @@ def run_discharges(path: str | Path, out: str | Path, *, fmt: str = "auto", leve
     check_out_dir(out, overwrite, FILES)
     rec = read_discharges(path, fmt, level_percent_mvc)
     trial = rec.trial(pad_ms=1000.0)
-    thresholds = calibration_thresholds(trial, calibration_fraction * trial.duration_ms)
     t0 = time.time()
-    t, y, human, reference = fit_both(trial, calibration_fraction=calibration_fraction, dt_ms=dt_ms)
+    fits = fit_both(trial, calibration_fraction=calibration_fraction, dt_ms=dt_ms)
+    t, y, thresholds, human, reference = fits.t_ms, fits.recorded, fits.thresholds_percent_mvc, fits.human, \
+        fits.reference
     outdir = prepare_out_dir(out, overwrite, FILES)
     src = Path(path)
     summary = {"file": src.name, "units": len(trial.discharges_ms), "level_percent_mvc": rec.level_percent_mvc,

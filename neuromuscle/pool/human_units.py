@@ -138,7 +138,11 @@ class HumanUnitFit(WindowScores):
                 "scale": self.scale, "offset": self.offset, **self.scores()}
 
 
-def _predict(bases: SpeedBases, th: np.ndarray, p: dict[str, float]) -> np.ndarray:
+def relative_force(bases: SpeedBases, thresholds_percent_mvc: np.ndarray, params: dict[str, float]) -> np.ndarray:
+    """The summed force (before scale and offset) of units with these thresholds (% MVC) under ``params``
+    (:data:`BOUNDS` names), at ``bases.t_ms``."""
+    th = np.asarray(thresholds_percent_mvc, float)
+    p = params
     speeds, p0 = unit_properties(th, p["S0"], p["RS"], p["RP"], p["W"])
     return _delayed(bases.t_ms, p0 @ bases.at(speeds), p["delay_ms"])
 
@@ -147,7 +151,7 @@ def _intervals(bases: SpeedBases, th: np.ndarray, y: np.ndarray, cal: np.ndarray
                ) -> dict[str, tuple[float, float]]:
     """95 % Gauss-Newton intervals of the nonlinear parameters (module docstring), scale and offset profiled."""
     def residual(p: dict[str, float]) -> np.ndarray:
-        h = _predict(bases, th, p)[cal]
+        h = relative_force(bases, th, p)[cal]
         scale, offset = linear_scale_offset(h, y[cal])
         return scale * h + offset - y[cal]
 
@@ -183,12 +187,12 @@ def fit_human_units(bases: SpeedBases, thresholds_percent_mvc: Sequence[float], 
     window_mask(t, heldout_ms, "held-out")
 
     def cost(p: dict[str, float]) -> float:
-        h = _predict(bases, th, p)[cal]
+        h = relative_force(bases, th, p)[cal]
         scale, offset = linear_scale_offset(h, y[cal])
         return float(np.sum((scale * h + offset - y[cal]) ** 2))
 
     best = min((bounded_minimize(cost, s, BOUNDS) for s in STARTS), key=cost)
-    h = _predict(bases, th, best)
+    h = relative_force(bases, th, best)
     scale, offset = linear_scale_offset(h[cal], y[cal])
     if scale <= 0:
         raise InputError("the calibration found no positive unit force: the force does not follow the discharges")

@@ -15,30 +15,7 @@ from neuromuscle.pool.discharge_force import FILES, read_discharges, run_dischar
 FS = 2048.0
 
 
-def small_caillet(path, seconds: float = 5.0, seed: int = 2):
-    """A Caillet-layout file: 4 units recruited in turn on a trapezoid, force a smoothed sum of their activity."""
-    rng = np.random.default_rng(seed)
-    n = int(seconds * FS)
-    t = np.arange(n) / FS
-    ramp = np.clip(np.minimum(t - 0.5, seconds - 0.5 - t) / 1.5, 0.0, 1.0)
-    pulses = np.empty((1, 4), dtype=object)
-    rate = np.zeros(n)
-    for i in range(4):
-        on = ramp > 0.2 * i
-        times, s = [], 0.0
-        while s < seconds:
-            s += 1.0 / (8.0 + 6.0 * ramp[min(int(s * FS), n - 1)]) + rng.normal(0.0, 0.004)
-            if s < seconds and on[min(int(s * FS), n - 1)]:
-                times.append(s)
-        k = np.unique(np.round(np.array(times) * FS).astype(int) + 1)
-        pulses[0, i] = k[None, :]
-        rate += np.convolve(np.bincount(k - 1, minlength=n)[:n].astype(float), np.hanning(400), "same")
-    force = 0.9 + 0.05 * rate / rate.max() + rng.normal(0.0, 1e-4, n)
-    scipy.io.savemat(path, {"MUPulses": pulses, "fsamp": np.array([[FS]]), "ref_signal": force[None, :]})
-    return path
-
-
-def test_run_writes_both_fits_with_provenance(tmp_path):
+def test_run_writes_both_fits_with_provenance(tmp_path, small_caillet):
     src = small_caillet(tmp_path / "X_20.mat")
     s = run_discharges(src, tmp_path / "out", dt_ms=0.1)
     assert s["units"] == 4 and s["level_percent_mvc"] == 20.0
