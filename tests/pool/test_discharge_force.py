@@ -3,6 +3,7 @@ versions, mechanism hash, input file and its hash), figure and summary; a bad fi
 
 import hashlib
 import json
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -10,7 +11,7 @@ import pytest
 import scipy.io
 
 from neuromuscle.errors import InputError
-from neuromuscle.pool.discharge_force import FILES, read_discharges, run_discharges
+from neuromuscle.pool.discharge_force import FILES, calibration_thresholds, read_discharges, run_discharges
 
 FS = 2048.0
 
@@ -46,3 +47,20 @@ def test_bad_file_is_refused_and_nothing_is_written(tmp_path):
         read_discharges(tmp_path / "Y_30.csv")
     with pytest.raises(InputError, match="format must be one of"):
         read_discharges(tmp_path / "Y_30.mat", fmt="excel")
+
+
+CAILLET = Path(__file__).resolve().parents[2].parent / "shared" / "real_data" / "human_mu_spike_trains_caillet"
+
+
+@pytest.mark.skipif(not CAILLET.is_dir(), reason=f"Caillet real-data folder {CAILLET} is absent")
+def test_real_file_thresholds_come_from_the_calibration_half():
+    rec = read_discharges(CAILLET / "S1_30_36L.mat")
+    assert rec.n_units == 17 and rec.level_percent_mvc == 30.0
+    trial = rec.trial()
+    whole = rec.thresholds_percent_mvc()[trial.units]
+    half = calibration_thresholds(trial, 0.5 * trial.duration_ms)
+    assert np.allclose(half, whole)  # every unit of this trial is recruited on the ramp up, in the first half
+    early = calibration_thresholds(trial, 6000.0)  # a window ending on the ramp: later units get its top force
+    late = np.array([d[0] for d in trial.discharges_ms]) >= 6000.0
+    assert late.any() and np.allclose(early[late], trial.force_percent_mvc[trial.force_t_ms < 6000.0].max())
+    assert np.allclose(early[~late], whole[~late])
