@@ -33,9 +33,10 @@ def run(args: argparse.Namespace) -> int:
     h, r = s["human_units"], s["twitch_sum"]
     print(f"{s['file']}: {s['units']} units, {s['duration_ms'] / 1000.0:.1f} s, calibrated on the first "
           f"{100.0 * s['calibration_fraction']:.0f} %")
-    print(f"human units: S0 {h['S0']:.3g}, RS {h['RS']:.3g}, RP {h['RP']:.3g}, delay {h['delay_ms']:.3g} ms; NRMSE "
+    print(f"human units: S0 {h['S0']:.3g}, RS {h['RS']:.3g}, RP {h['RP']:.3g}, W {h['W']:.3g}, delay "
+          f"{h['delay_ms']:.0f} ms; NRMSE "
           f"calibration {h['nrmse_calibration_percent']:.2f} %, held-out {h['nrmse_heldout_percent']:.2f} %")
-    print(f"twitch sum:  RP {r['RP']:.3g}, TL {r['TL_ms']:.3g} ms, RT {r['RT']:.3g}, delay {r['delay_ms']:.3g} ms; "
+    print(f"twitch sum:  RP {r['RP']:.3g}, TL {r['TL_ms']:.3g} ms, RT {r['RT']:.3g}, delay {r['delay_ms']:.0f} ms; "
           f"NRMSE calibration {r['nrmse_calibration_percent']:.2f} %, held-out {r['nrmse_heldout_percent']:.2f} %")
     print(f"wrote {args.out}/discharges.h5, discharges.png and discharges.json")
     return 0

@@ -42,17 +42,25 @@ SCHEMA = "neuromuscle.discharge_force/1"
 BASE_SET, LENGTH_MM = "CT09", -8.0
 
 
+def resolved_format(path: Path, fmt: str) -> str:
+    """``fmt`` (one of :data:`FORMATS`) with auto resolved from the suffix: openhdemg JSON for .json, Caillet for
+    .mat; anything else raises InputError naming the file."""
+    if fmt not in FORMATS:
+        raise InputError(f"{path}: format must be one of {', '.join(FORMATS)}, got {fmt!r}")
+    if fmt != "auto":
+        return fmt
+    found = {".json": "openhdemg-json", ".mat": "caillet"}.get(path.suffix.lower())
+    if found is None:
+        raise InputError(f"{path}: cannot tell the format from the suffix {path.suffix!r}; give one of "
+                         f"{', '.join(FORMATS[1:])}")
+    return found
+
+
 def read_discharges(path: str | Path, fmt: str = "auto", level_percent_mvc: float | None = None
                     ) -> RecordedDischarges:
     """Read ``path`` in ``fmt`` (one of :data:`FORMATS`; auto: openhdemg JSON for .json, Caillet for .mat)."""
     p = Path(path)
-    if fmt not in FORMATS:
-        raise InputError(f"{p}: format must be one of {', '.join(FORMATS)}, got {fmt!r}")
-    if fmt == "auto":
-        fmt = {".json": "openhdemg-json", ".mat": "caillet"}.get(p.suffix.lower(), "")
-        if not fmt:
-            raise InputError(f"{p}: cannot tell the format from the suffix {p.suffix!r}; give one of "
-                             f"{', '.join(FORMATS[1:])}")
+    fmt = resolved_format(p, fmt)
     if fmt == "caillet":
         return load_caillet(p, level_percent_mvc)
     return load_openhdemg(p, fmt.split("-", 1)[1], level_percent_mvc)
@@ -186,10 +194,15 @@ def run_discharges(path: str | Path, out: str | Path, *, fmt: str = "auto", leve
                "duration_ms": trial.duration_ms, "calibration_fraction": calibration_fraction,
                "human_units": human.summary(), "twitch_sum": reference.summary(),
                "wall_s": round(time.time() - t0, 1)}
+    fmt = resolved_format(src, fmt)
     fields = {"input_file": str(src.resolve()), "input_sha256": file_sha256(src), "format": fmt,
               "trial_start_ms": trial.start_ms, "dt_ms": dt_ms, "speed_grid": list(SPEED_GRID),
               "muscle_set": BASE_SET, "parameters": dict(load_parameters(BASE_SET).values), "length_mm": LENGTH_MM,
               "calibration_fraction": calibration_fraction, "level_percent_mvc": rec.level_percent_mvc}
+    if fmt.startswith("openhdemg"):
+        from importlib.metadata import version
+
+        fields["openhdemg_version"] = version("openhdemg")
     _write_h5(outdir / FILES[0], t, y, trial, thresholds, human, reference, fields)
     _figure(outdir / FILES[1], src.stem, trial, t, y, human, reference)
     write_text(outdir / FILES[2], json.dumps({**summary, "provenance": fields}, indent=1, default=float) + "\n")

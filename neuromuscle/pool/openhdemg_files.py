@@ -9,8 +9,9 @@ Fields used (openhdemg's ``emgfile`` dict): ``MUPULSES`` (one array of discharge
 from 0), ``FSAMP`` (Hz) and the first column of ``REF_SIGNAL`` (the force, one sample per EMG sample).  Without
 ``level_percent_mvc`` the force must already be in % MVC (openhdemg's convention after its MVC conversion); with it,
 the force is normalised as for the Caillet files (baseline 0, plateau at the level).  openhdemg is an optional
-dependency (``pip install 'neuromuscle[openhdemg]'``), imported only inside :func:`load_openhdemg` and only its
-file-reading module (it imports tkinter but opens no window).  Times in ms.
+dependency (``pip install 'neuromuscle[openhdemg]'``), imported only inside :func:`load_openhdemg`, by its
+file-reading module ``openhdemg.library.openfiles``; that import loads the whole ``openhdemg.library`` (tkinter and
+matplotlib among it) but opens no window and needs no display.  Times in ms.
 """
 
 from __future__ import annotations

@@ -28,6 +28,7 @@ def test_run_writes_both_fits_with_provenance(tmp_path, small_caillet):
         prov = json.loads(f.attrs["provenance"])
         assert prov["input_sha256"] == hashlib.sha256(src.read_bytes()).hexdigest()
         assert prov["input_file"].endswith("X_20.mat") and len(prov["mechanism_sha256"]) == 64
+        assert prov["format"] == "caillet" and "openhdemg_version" not in prov
         assert prov["parameters"]["kim_m3.P0"] > 0 and "neuron" in prov["versions"]
         assert json.loads(f.attrs["human_units_fit"])["nrmse_heldout_percent"] == pytest.approx(
             s["human_units"]["nrmse_heldout_percent"])

@@ -3,6 +3,7 @@ bundled OTBiolab+ export load as discharges in ms and force in % MVC; bad files 
 
 import gzip
 import json
+from importlib.metadata import version
 from pathlib import Path
 
 import numpy as np
@@ -85,3 +86,19 @@ def test_bad_files_are_refused_naming_file_and_field(tmp_path):
         load_openhdemg(tmp_path / "x.mat")
     with pytest.raises(InputError, match="no such file"):
         load_openhdemg(tmp_path / "absent.json")
+
+
+def test_command_route_on_an_openhdemg_file_records_its_provenance(tmp_path, small_caillet):
+    import h5py
+
+    from neuromuscle.pool.discharge_force import run_discharges
+    from neuromuscle.pool.discharges import load_caillet
+
+    rec = load_caillet(small_caillet(tmp_path / "X_20.mat"))
+    pulses = [np.round(d * rec.fsamp_hz / 1000.0).astype(int) for d in rec.discharges_ms]
+    src = write_json(tmp_path / "x.json", pulses, rec.force_percent_mvc, rec.fsamp_hz)
+    s = run_discharges(src, tmp_path / "out", dt_ms=0.1)
+    assert s["units"] == 4 and s["level_percent_mvc"] == pytest.approx(20.0, rel=0.05)
+    with h5py.File(tmp_path / "out" / "discharges.h5", "r") as f:
+        prov = json.loads(f.attrs["provenance"])
+    assert prov["format"] == "openhdemg-json" and prov["openhdemg_version"] == version("openhdemg")
