@@ -104,17 +104,21 @@ class DischargeFits:
 
 
 def fit_both(trial: DischargeTrial, *, calibration_fraction: float = 0.5, dt_ms: float = 0.05,
-             speeds: tuple[float, ...] = SPEED_GRID) -> DischargeFits:
+             speeds: tuple[float, ...] = SPEED_GRID, bases: SpeedBases | None = None) -> DischargeFits:
     """Both models fitted on the first ``calibration_fraction`` of ``trial`` (thresholds from that window:
-    :func:`calibration_thresholds`)."""
-    if not 0.05 <= calibration_fraction <= 0.95:
-        raise InputError(f"calibration fraction must lie in [0.05, 0.95], got {calibration_fraction}")
-    bases = speed_bases(trial.discharges_ms, trial.duration_ms, load_parameters(BASE_SET), speeds=speeds,
-                        dt_ms=dt_ms, length_mm=LENGTH_MM)
+    :func:`calibration_thresholds`).  A fraction of 1 fits the whole trial (to carry it to another one): there is
+    no held-out time, and the held-out scores repeat the calibration's.  ``bases``: the trial's unit forces from an
+    earlier fit, reused instead of simulated again."""
+    if not 0.05 <= calibration_fraction <= 1.0:
+        raise InputError(f"calibration fraction must lie in [0.05, 1], got {calibration_fraction}")
+    if bases is None:
+        bases = speed_bases(trial.discharges_ms, trial.duration_ms, load_parameters(BASE_SET), speeds=speeds,
+                            dt_ms=dt_ms, length_mm=LENGTH_MM)
     t = bases.t_ms
     y = trial.force_at(t)
-    split = calibration_fraction * trial.duration_ms
-    windows = {"calibration_ms": (0.0, split), "heldout_ms": (split, float(t[-1]) + 1.0)}
+    end = float(t[-1]) + 1.0
+    split = calibration_fraction * trial.duration_ms if calibration_fraction < 1.0 else end
+    windows = {"calibration_ms": (0.0, split), "heldout_ms": (split, end) if split < end else (0.0, end)}
     thresholds = calibration_thresholds(trial, split)
     human = fit_human_units(bases, thresholds, y, **windows)
     reference = fit_twitch_sum(trial.discharges_ms, t, recruitment_rank(len(trial.discharges_ms)), y, **windows)

@@ -34,3 +34,14 @@ def test_carried_to_another_level_it_uses_the_targets_thresholds(two_levels):
     assert scores["human_units"] == pytest.approx(nrmse_percent(low.recorded, human))
     # the transferred prediction is a prediction: it follows the target's contraction, not a copy of the source's
     assert np.corrcoef(human, low.recorded)[0, 1] > 0.8
+
+
+def test_whole_trial_fit_reuses_the_bases_and_has_no_held_out_time(two_levels):
+    high, low = two_levels
+    whole = fit_both(high.trial, calibration_fraction=1.0, bases=high.bases)
+    assert whole.bases is high.bases
+    assert whole.human.nrmse_heldout_percent == whole.human.nrmse_calibration_percent
+    assert whole.human.calibration_ms[1] > high.trial.duration_ms
+    # fitted on all of it, it describes its own trial at least as well as the first-half fit does
+    assert whole.human.nrmse_calibration_percent <= nrmse_percent(high.recorded, high.human.predicted) + 1e-6
+    assert transfer_nrmse(whole, low)["human_units"] > 0.0
