@@ -185,6 +185,9 @@ def run_discharges(path: str | Path, out: str | Path, *, fmt: str = "auto", leve
     discharges.json).  Nothing is written when the file or ``out`` is refused."""
     from ..reports.outdir import check_out_dir, prepare_out_dir, write_text
 
+    if not 0.05 <= calibration_fraction <= 0.95:
+        raise InputError(f"calibration fraction must lie in [0.05, 0.95] (the rest is held out), got "
+                         f"{calibration_fraction}")
     check_out_dir(out, overwrite, FILES)
     rec = read_discharges(path, fmt, level_percent_mvc)
     trial = rec.trial(pad_ms=1000.0)

@@ -44,6 +44,8 @@ def test_bad_file_is_refused_and_nothing_is_written(tmp_path):
     with pytest.raises(InputError, match=r"Y_30\.mat: field 'MUPulses' is missing"):
         run_discharges(tmp_path / "Y_30.mat", tmp_path / "out")
     assert not (tmp_path / "out").exists()
+    with pytest.raises(InputError, match="the rest is held out"):
+        run_discharges(tmp_path / "Y_30.mat", tmp_path / "out", calibration_fraction=1.0)
     with pytest.raises(InputError, match=r"Y_30\.csv: cannot tell the format"):
         read_discharges(tmp_path / "Y_30.csv")
     with pytest.raises(InputError, match="format must be one of"):
