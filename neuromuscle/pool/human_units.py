@@ -17,17 +17,15 @@ run per speed, every P0 = 1 N) and interpolated linearly in log speed between th
 
 Priors (uniform over the ranges of :data:`BOUNDS`), from published human motor-unit properties:
 
-- S0: twitch contraction times of low-threshold units of human tibialis anterior between about 40 and 120 ms
-  (spike-triggered averages of Van Cutsem et al. 1997, J Physiol 505:237; the 20-85 ms distribution of contraction
-  times they report for TA) and of medial gastrocnemius (Garnett et al. 1979, J Physiol 287:33: slow type S units;
-  whole-muscle contraction time about 114 ms, Vandervoort & McComas 1983, Eur J Appl Physiol 51:435), i.e.
-  S0 = 81 ms / contraction time in 0.65..2.
-- RS: contraction times shorten with threshold over at most a 3-fold range across the pool (Fuglevand et al. 1993);
-  in human TA contraction time is only weakly related to threshold (Van Cutsem et al. 1997): RS in 1..3 per 100 %
-  MVC of threshold.
-- RP: twitch force grows with recruitment threshold (Desmedt & Godaux 1977, J Physiol 264:673; Milner-Brown, Stein
-  & Yemm 1973, J Physiol 230:359) over a 10- to 100-fold range across the pool (Fuglevand et al. 1993): RP in
-  1..300 per 100 % MVC of threshold.
+- S0: twitch contraction times of human motor units from about 40 to 125 ms: tibialis anterior units span about
+  20-85 ms (spike-triggered averages of Van Cutsem et al., as summarised by Nagamori et al. 2021), medial
+  gastrocnemius has slow type S units (Garnett et al. 1979) and a whole-muscle contraction time of about 114 ms
+  (Vandervoort & McComas 1983); the low-threshold units are the slow end, so S0 = 81 ms / contraction time
+  in 0.65..2 (CT09's time to peak is 81 ms at speed 1).
+- RS: contraction times shorten with threshold over at most a 3-fold range across the pool (Fuglevand et al. 1993):
+  RS in 1..3 per 100 % MVC of threshold.
+- RP: twitch force grows with recruitment threshold (Milner-Brown, Stein & Yemm 1973; Desmedt & Godaux 1977), over
+  a range of up to 100-fold across the pool (Fuglevand et al. 1993): RP in 1..300 per 100 % MVC of threshold.
 - W: 0..2, how the sample stands for the pool (no published prior: a property of the decomposition's sample).
 - delay: 0..200 ms between the decomposed discharges and the transducer force.
 
