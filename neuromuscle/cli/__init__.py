@@ -1,5 +1,5 @@
 """Command line: ``neuromuscle simulate | pool | fit | diagnose | data check | data example | synth |
-twitch-to-tetanus | bench ... | info``.
+twitch-to-tetanus | discharges | bench ... | info``.
 
 One module per command, each with ``add_parser(subparsers)`` and ``run(args) -> exit code``.  A NeuromuscleError
 becomes a one-line message on stderr and exit code 2.
@@ -11,9 +11,9 @@ import argparse
 import sys
 
 from ..errors import NeuromuscleError
-from . import bench, data, diagnose, fit, info, pool, simulate, synth, twitch_to_tetanus
+from . import bench, data, diagnose, discharges, fit, info, pool, simulate, synth, twitch_to_tetanus
 
-COMMANDS = (simulate, pool, fit, diagnose, data, synth, twitch_to_tetanus, bench, info)
+COMMANDS = (simulate, pool, fit, diagnose, data, synth, twitch_to_tetanus, discharges, bench, info)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Sequence
 
 import numpy as np
 
@@ -103,7 +104,8 @@ def _field(mat: dict, path: Path, name: str) -> np.ndarray:
     return np.asarray(mat[name])
 
 
-def _numeric(path: Path, name: str, value: np.ndarray) -> np.ndarray:
+def numeric_field(path: Path, name: str, value: np.ndarray) -> np.ndarray:
+    """``value`` as finite float64 numbers (flattened), else InputError naming the file and the field."""
     if value.dtype.kind not in "iuf" or value.size == 0:
         raise InputError(f"{path}: field {name!r} must hold numbers, got {value.dtype} of size {value.size}")
     out = value.astype(np.float64).ravel()
@@ -112,26 +114,34 @@ def _numeric(path: Path, name: str, value: np.ndarray) -> np.ndarray:
     return out
 
 
-def _pulses(path: Path, cell: np.ndarray, fsamp: float, n_samples: int) -> list[np.ndarray]:
-    if cell.dtype != object or cell.ndim != 2 or 1 not in cell.shape:
-        raise InputError(f"{path}: field 'MUPulses' must be a 1 x n cell array, got {cell.dtype} {cell.shape}")
+def pulse_trains(path: Path, field: str, trains: Sequence[object], fsamp: float, n_samples: int,
+                 first_sample: int) -> list[np.ndarray]:
+    """Discharge sample indices of each unit (counted from ``first_sample``: 1 in MATLAB files, 0 in openhdemg's)
+    as ms from the recording's start; every problem raises InputError naming the file, ``field`` and the unit."""
     out = []
-    for i, x in enumerate(cell.ravel()):
-        where = f"{path}: field 'MUPulses' unit {i}"
-        k = _numeric(path, f"MUPulses unit {i}", np.asarray(x))
+    for i, x in enumerate(trains):
+        where = f"{path}: field {field!r} unit {i}"
+        k = numeric_field(path, f"{field} unit {i}", np.asarray(x))
         if np.any(k != np.round(k)):
             raise InputError(f"{where}: sample indices must be integers, got {k[k != np.round(k)][0]:g}")
-        if k[0] < 1 or k[-1] > n_samples:
-            bad = k[0] if k[0] < 1 else k[-1]
-            raise InputError(f"{where}: sample {bad:g} lies outside the force record (1..{n_samples} at "
+        last = n_samples - 1 + first_sample
+        if k[0] < first_sample or k[-1] > last:
+            bad = k[0] if k[0] < first_sample else k[-1]
+            raise InputError(f"{where}: sample {bad:g} lies outside the force record ({first_sample}..{last} at "
                              f"{fsamp:g} Hz)")
         problem = time_order_problem(k, where, "samples")
         if problem:
             raise InputError(problem)
-        out.append((k - 1.0) * (1000.0 / fsamp))
+        out.append((k - first_sample) * (1000.0 / fsamp))
     if not out:
-        raise InputError(f"{path}: field 'MUPulses' holds no units")
+        raise InputError(f"{path}: field {field!r} holds no units")
     return out
+
+
+def _pulses(path: Path, cell: np.ndarray, fsamp: float, n_samples: int) -> list[np.ndarray]:
+    if cell.dtype != object or cell.ndim != 2 or 1 not in cell.shape:
+        raise InputError(f"{path}: field 'MUPulses' must be a 1 x n cell array, got {cell.dtype} {cell.shape}")
+    return pulse_trains(path, "MUPulses", list(cell.ravel()), fsamp, n_samples, 1)
 
 
 def normalise_force(path: Path, raw: np.ndarray, first_sample: int, level: float) -> np.ndarray:
@@ -158,14 +168,14 @@ def load_caillet(path: str | Path, level_percent_mvc: float | None = None) -> Re
         raise InputError(f"{p}: no such file")
     try:
         mat = scipy.io.loadmat(p)
-    except (MatReadError, ValueError, TypeError, OSError, NotImplementedError) as exc:
+    except (MatReadError, ValueError, TypeError, OSError, NotImplementedError, IndexError) as exc:
         raise InputError(f"{p}: not a readable MATLAB .mat file ({exc})") from None
     level = level_from_name(p) if level_percent_mvc is None else positive_number("level_percent_mvc",
                                                                                  level_percent_mvc)
-    fs = _numeric(p, "fsamp", _field(mat, p, "fsamp"))
+    fs = numeric_field(p, "fsamp", _field(mat, p, "fsamp"))
     if fs.size != 1 or fs[0] <= 0:
         raise InputError(f"{p}: field 'fsamp' must be one positive rate (Hz), got {fs[:3]}")
-    raw = _numeric(p, "ref_signal", _field(mat, p, "ref_signal"))
+    raw = numeric_field(p, "ref_signal", _field(mat, p, "ref_signal"))
     trains = _pulses(p, _field(mat, p, "MUPulses"), float(fs[0]), raw.size)
     first = int(round(min(d[0] for d in trains) * fs[0] / 1000.0))
     force = normalise_force(p, raw, first, level)

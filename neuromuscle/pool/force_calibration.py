@@ -32,6 +32,7 @@ from ..validate import finite_series, positive_number
 from .definition import PoolDefinition
 from .motoneuron import TYPES
 from .pool import Pool
+from .window_fit import window_mask
 
 
 @dataclass(frozen=True)
@@ -84,14 +85,6 @@ def _shift(basis: np.ndarray, samples: int) -> np.ndarray:
     return np.concatenate([np.repeat(basis[:, :1], samples, axis=1), basis[:, :-samples]], axis=1)
 
 
-def _window(t_ms: np.ndarray, window: tuple[float, float], name: str) -> np.ndarray:
-    a, b = (float(x) for x in window)
-    sel = (t_ms >= a) & (t_ms < b)
-    if not a < b or sel.sum() < 10:
-        raise InputError(f"{name} window {a:g}..{b:g} ms holds fewer than 10 samples of 0..{t_ms[-1]:g} ms")
-    return sel
-
-
 def fit_unit_forces(t_ms: np.ndarray, basis: np.ndarray, rank: Sequence[float], target: Sequence[float], *,
                     calibration_ms: tuple[float, float], heldout_ms: tuple[float, float],
                     delays_ms: Sequence[float] = (0.0,), max_range: float = 1000.0) -> UnitForceFit:
@@ -109,7 +102,7 @@ def fit_unit_forces(t_ms: np.ndarray, basis: np.ndarray, rank: Sequence[float], 
     delays = [float(d) for d in delays_ms]
     if not delays or min(delays) < 0:
         raise InputError(f"delays_ms must be a non-empty list of delays >= 0 ms, got {list(delays_ms)}")
-    cal, held = _window(t, calibration_ms, "calibration"), _window(t, heldout_ms, "held-out")
+    cal, held = window_mask(t, calibration_ms, "calibration"), window_mask(t, heldout_ms, "held-out")
     step = float(t[1] - t[0])
     best = (np.inf, 0.0, 1.0, 0.0)
     for delay in delays:

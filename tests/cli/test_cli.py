@@ -83,3 +83,16 @@ def test_first_use_compiles_with_a_message_and_progress(tmp_path):
                          timeout=600)
     assert out.returncode == 0, out.stderr
     assert "neuromuscle: compiling" in out.stderr and "neuromuscle: mechanisms compiled." in out.stderr
+
+
+def test_discharges_command_refuses_a_bad_file_naming_the_field(tmp_path, capsys):
+    import numpy as np
+    import scipy.io
+
+    pulses = np.empty((1, 1), dtype=object)
+    pulses[0, 0] = np.array([[30, 20]])
+    scipy.io.savemat(tmp_path / "Z_30.mat", {"MUPulses": pulses, "fsamp": np.array([[2048.0]]),
+                                             "ref_signal": np.zeros((1, 100))})
+    assert main(["discharges", str(tmp_path / "Z_30.mat"), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "Z_30.mat: field 'MUPulses' unit 0" in err and not (tmp_path / "out").exists()
