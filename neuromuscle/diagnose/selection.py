@@ -9,7 +9,9 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    their BIC penalty by at least ``FIT_SHARE`` of the best one's are fitted, best first, and, while none of them
    passes, the next ones too, at most ``MAX_FITS`` in all, or ``MAX_FITS_SMALL`` once a fitted candidate fails
    only for being small beside the held-out error left (a real cause, not the main one: the calibration trials
-   that rank the candidates are not those that carry the held-out error);
+   that rank the candidates are not those that carry the held-out error); and, while none passes, every candidate
+   that refits the force-length parameters and beats its penalty is fitted whatever its rank
+   (:func:`trades_off_with_length`);
 3. **fit** (:func:`.models.fit_model`): M plus the candidate, the candidate's own parameters and the baseline
    parameters it interacts with free (:func:`refitted`), from M and from M with those baseline parameters put back
    at the base set's values;
@@ -281,6 +283,13 @@ def _starts(ctx: Context, name: str, before: FittedModel, screened: Screen | Non
     return {"model before": first, "base set": first.with_values(back)}
 
 
+def trades_off_with_length(ctx: Context, name: str) -> bool:
+    """Whether candidate ``name`` refits force-length parameters (g1, g2, P0) the baseline fitted: its screen,
+    linearised at a Module 3 bent to absorb what it can of the effect, ranks it low however large the effect, so
+    it is fitted whenever it beats its penalty and nothing has passed."""
+    return bool(set(LENGTH_PARAMETERS) & set(refitted(ctx, name)))
+
+
 def refitted(ctx: Context, name: str) -> tuple[str, ...]:
     """The baseline parameters candidate ``name``'s fit refits beside its own: those it interacts with
     (``Extension.interacts``) among the baseline's free ones.  The model before it is fitted in all of them, so
@@ -338,10 +347,11 @@ def step(ctx: Context, index: int, before: FittedModel, max_fits: int = MAX_FITS
     best = screens[ranked[0]].score
     fitted, budget = 0, max_fits
     for n in [n for n in ranked if screens[n].score > 0]:
-        close = screens[n].score >= FIT_SHARE * best
-        if fitted >= budget or not (close or not any(c.evidence.passed for c in out.candidates.values()
-                                                     if c.evidence is not None)):
+        none_passed = not any(c.evidence.passed for c in out.candidates.values() if c.evidence is not None)
+        if not (screens[n].score >= FIT_SHARE * best or none_passed):
             break
+        if fitted >= budget and not (none_passed and trades_off_with_length(ctx, n)):
+            continue
         fitted += 1
         c = out.candidates[n]
         fit_alone(ctx, c, before)
