@@ -21,13 +21,13 @@ from __future__ import annotations
 
 import fcntl
 import hashlib
+import importlib.util
 import os
 import platform
 import shutil
 import subprocess
 import sys
 import tempfile
-from importlib import resources
 from pathlib import Path
 from typing import Callable
 
@@ -58,7 +58,14 @@ def mod_dir() -> Path:
     src = Path(__file__).resolve().parents[2] / "mod"
     if src.is_dir() and any(src.glob("*.mod")):
         return src
-    return Path(str(resources.files("neuromuscle._mod")))
+    # an installed package: mod/ ships as the namespace package neuromuscle._mod (no __init__.py), whose
+    # resources.files() is a MultiplexedPath, not a path; its search location is the folder
+    spec = importlib.util.find_spec("neuromuscle._mod")
+    for where in (spec.submodule_search_locations or []) if spec is not None else []:
+        if any(Path(where).glob("*.mod")):
+            return Path(where)
+    raise MechanismBuildError("the package's .mod files are missing: neither mod/ beside the source tree nor the "
+                              "installed neuromuscle._mod holds any (reinstall the package)")
 
 
 def mod_files() -> list[Path]:

@@ -54,3 +54,24 @@ def test_provenance_names_the_loaded_library_not_the_files_edited_since(tmp_path
     monkeypatch.setattr(mechanisms, "mod_dir", lambda: tmp_path)
     assert mechanisms.mechanism_hash() != loaded
     assert simulate(load_parameters("CT09"), [10.0], -8.0, 30.0).provenance["mechanism_sha256"] == loaded
+
+
+def test_an_installed_package_finds_its_mod_files(tmp_path):
+    """Installed (not editable), mod/ ships as the namespace package neuromuscle._mod beside the code, as the wheel
+    lays it out (setup.py): the mechanisms are found there and hash as in the source tree."""
+    import shutil
+    from pathlib import Path
+
+    root = Path(mechanisms.__file__).resolve().parents[2]
+    site = tmp_path / "site"
+    shutil.copytree(root / "neuromuscle", site / "neuromuscle", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copytree(root / "mod", site / "neuromuscle" / "_mod", ignore=shutil.ignore_patterns("x86_64", "arm64"))
+    code = ("import neuromuscle.model.mechanisms as m; "
+            "print(m.mod_dir()); print(len(m.mod_files())); print(m.mechanism_hash())")
+    done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True,
+                          env={"PYTHONPATH": str(site), "PATH": "/usr/bin:/bin"})
+    assert done.returncode == 0, done.stderr[-2000:]
+    where, n, digest = done.stdout.split()
+    assert Path(where) == site / "neuromuscle" / "_mod"
+    assert int(n) == len(mechanisms.mod_files()) > 20
+    assert digest == mechanisms.mechanism_hash()
