@@ -48,6 +48,7 @@ from ..fit.evaluate import TrialPool
 from ..measured import MeasuredData, Trial
 from ..model.extensions import LENGTH_PARAMETERS
 from ..parameters import ParameterSet
+from .baseline import FORCE_PARAMETERS
 from .causes import causes, isometric_level, telling_trials, where_defined
 from .evidence import Evidence, WindowSamples, excess, gather
 from .models import (CANDIDATE_TOLERANCE, MODEL_MAX_ITERATIONS, OPTIONS, FittedModel, extension_class,
@@ -279,8 +280,19 @@ def _starts(ctx: Context, name: str, before: FittedModel, screened: Screen | Non
     ext = extension_class(name)
     values = {**extension_defaults(name), **(screened.time_constants if screened is not None else {})}
     first = before.parameters.with_values(values)
-    back = {n: ctx.base[n] for n in ext.interacts if n in ctx.baseline_free}
-    return {"model before": first, "base set": first.with_values(back)}
+    back = at_base(ctx, first, [n for n in ext.interacts if n in ctx.baseline_free])
+    return {"model before": first, "base set": back}
+
+
+def at_base(ctx: Context, params: ParameterSet, names: Sequence[str]) -> ParameterSet:
+    """``params`` with ``names`` put back at the base set's values.  When P0 is among them, the other force-valued
+    parameters not among them (a0, c0: N) move with it, so the force-velocity curve keeps its shape relative to P0
+    (and eq 11's asymptote (2 + c0/P0) Fc stays above Fc)."""
+    back = {n: ctx.base[n] for n in names}
+    if "P0" in back and float(params["P0"]) > 0:
+        ratio = float(back["P0"]) / float(params["P0"])
+        back.update({n: float(params[n]) * ratio for n in FORCE_PARAMETERS if n not in back})
+    return params.with_values(back)
 
 
 def trades_off_with_length(ctx: Context, name: str) -> bool:
@@ -309,7 +321,7 @@ def _screens_from_the_base_length(ctx: Context, before: FittedModel, names: Sequ
     chosen = [n for n in names if set(length) & set(extension_class(n).interacts)]
     if not length or not chosen or all(before.parameters[n] == ctx.base[n] for n in length):
         return {}
-    point = before.parameters.with_values({n: ctx.base[n] for n in length})
+    point = at_base(ctx, before.parameters, length)
     sims = simulate_all(point, ctx.calibration_trials, before.extensions, pool=ctx.pool)
     return screen(chosen, point, sims, ctx.calibration_trials, ctx.measured, ctx.noise, OPTIONS, pool=ctx.pool,
                   refitted=ctx.baseline_free, extensions=before.extensions,

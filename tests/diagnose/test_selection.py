@@ -3,8 +3,11 @@ candidates are tried together (selection.py, step 6).  The fits themselves are e
 
 from types import SimpleNamespace
 
+import pytest
+
 from neuromuscle.diagnose.evidence import Evidence
-from neuromuscle.diagnose.selection import JOINT_IF_PASSES, Candidate, Joint, Step, joint
+from neuromuscle.diagnose.selection import JOINT_IF_PASSES, Candidate, Joint, Step, at_base, joint
+from neuromuscle.parameters import load_parameters
 
 
 def evidence(failed=()) -> Evidence:
@@ -61,3 +64,17 @@ def test_no_pair_is_tried_without_a_candidate_beyond_noise_and_material_alone():
     alone = Step(1, model("M"), {"a": candidate("a", ["R3"]), "b": candidate("b", score=-1.0, fitted=False),
                                  "c": candidate("c", score=None, fitted=False)})
     assert joint(None, alone) is None
+
+
+def test_putting_p0_back_moves_the_force_valued_parameters_with_it():
+    """A start or screen at the base force-length curve keeps the force-velocity curve's shape relative to P0:
+    a fitted c0 below the base P0 would otherwise be refused by KimForce (eq 11's asymptote)."""
+    p = load_parameters("CT09")
+    fitted = p.with_values({"P0": 2 * p["P0"], "c0": -1.5 * p["P0"], "a0": 0.2 * p["P0"], "g1": -5.0})
+    ctx = SimpleNamespace(base=p)
+    back = at_base(ctx, fitted, ["P0", "g1", "g2"])
+    assert (back["P0"], back["g1"], back["g2"]) == (p["P0"], p["g1"], p["g2"])
+    assert back["c0"] == pytest.approx(-0.75 * p["P0"]) and back["a0"] == pytest.approx(0.1 * p["P0"])
+    assert back["c0"] > -back["P0"]
+    only = at_base(ctx, fitted, ["g1"])
+    assert only["g1"] == p["g1"] and (only["P0"], only["c0"]) == (fitted["P0"], fitted["c0"])
