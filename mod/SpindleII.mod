@@ -9,6 +9,8 @@ length receptor, its rate (/s) linear in the stretch with a fusimotor term and a
 d = xm - xref (mm, the stretch from the reference length xref), fus (1): the EMG-like fusimotor drive in % of
 maximal activation.  Defaults: kd = 13.5 /s, ke = 0.02 /s per %, r0 = 80 /s, dref = 1 mm (d in mm in the fit).
 The rate is held at 0 or above (afferent_encoder.inc).
+The defaults are the coefficients commonly quoted from Prochazka (1999); they were not checked against the
+paper's text: check them before a quantitative use.
 
 Coupling: POINTER xm -> muscle length (mm) of a MuscleLength point process.
 Spikes: the shared encoder (afferent_encoder.inc) integrates the rate to threshold and calls net_event.

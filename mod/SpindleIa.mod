@@ -11,6 +11,8 @@ v = vm (mm/s, positive = lengthening), d = xm - xref (mm, the stretch from the r
 the EMG-like fusimotor drive in % of maximal activation.  Defaults: kv = 4.3 /s, kd = 2 /s, ke = 0.06 /s per %,
 r0 = 82 /s; vref = dref = 1 (mm/s, mm) carry the units of the published fit (v in mm/s, d in mm).  A shortening
 muscle (v < 0) lowers the rate symmetrically; the rate is held at 0 or above (afferent_encoder.inc).
+The fit: the ensemble firing of nine hamstring spindle primaries of cats walking, 132 step cycles; the power-law
+velocity models predicted it with r.m.s. errors below 14 % of its modulation depth (Prochazka & Gorassini 1998).
 
 Coupling: POINTER xm -> muscle length (mm) of a MuscleLength point process; POINTER vm -> its velocity (mm/s).
 Spikes: the shared encoder (afferent_encoder.inc) integrates the rate to threshold and calls net_event; a NetCon

@@ -8,7 +8,8 @@ series with the muscle fibres, its rate (/s) proportional to the force they pull
 
 F (N): the force of the muscle unit it reads; fmax (N): the force the rate is scaled by (the unit's maximal
 force, set from Python).  Defaults: kf = 333 /s, r0 = 0 /s.  The rate is held at 0 or above
-(afferent_encoder.inc).
+(afferent_encoder.inc).  The default gain is the one commonly quoted from Prochazka (1999); it was not
+checked against the paper's text: check it before a quantitative use.
 
 Coupling: POINTER F -> the force (N) of the muscle unit's contraction mechanism (KimForce.F, KimUnit.F).
 Registration order: this file is registered before the Kim modules: it reads the force of the previous step
