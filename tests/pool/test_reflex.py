@@ -85,6 +85,12 @@ def test_the_example_refuses_a_run_without_a_hold(tmp_path):
         _example().main(["--out", str(tmp_path / "out"), "--duration-ms", "600"])
 
 
+def test_a_reflex_on_a_pool_without_motoneurons_is_refused():
+    with Pool(_definition(2), length=-8.0, motoneurons=False) as pool:
+        with pytest.raises(InputError, match="has no motoneurons: a reflex needs them"):
+            attach_reflex(pool)
+
+
 def test_a_reflex_after_the_drive_is_refused():
     with Pool(_definition(2), length=-8.0) as pool:
         pool.drive_synaptic([0.0, 10.0], [0.0, 0.0])
