@@ -139,6 +139,7 @@ def main(argv: list[str] | None = None) -> dict:
     runs = {cond: run(a.units, a.x0_mm, a.x1_mm, a.velocity_mm_s, a.duration_ms, a.tonic_us, cut)
             for cond, cut in (("intact", False), ("cut", True))}
     summary = summarise(runs, a.x0_mm, a.x1_mm, a.velocity_mm_s, a.duration_ms)
+    summary["ranks"] = int(parallel_context().nhost())
     if rank == 0:
         (out / FILES[0]).write_text(json.dumps(summary, indent=1))
         figure(out / FILES[1], runs, f"cat soleus stretch reflex, {a.units} units: intact vs dorsal roots cut")
@@ -147,4 +148,11 @@ def main(argv: list[str] | None = None) -> dict:
 
 
 if __name__ == "__main__":
-    main()
+    from neuromuscle.pool.mpi import finish_mpi, init_mpi, launcher_size
+
+    if launcher_size() is None:
+        main()
+    else:
+        init_mpi()          # NEURON joins the launcher's ranks before anything else uses it
+        main()
+        finish_mpi(0)

@@ -128,4 +128,5 @@ def test_two_ranks_give_the_reflex_of_one(tmp_path):
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
         assert proc.returncode == 0, proc.stderr[-3000:]
         out[n] = json.loads((tmp_path / f"r{n}" / "stretch_reflex.json").read_text())
+    assert (out[1].pop("ranks"), out[2].pop("ranks")) == (1, 2)
     assert out[1] == out[2] and out[1]["reflex_force_gain"] > 1.0
