@@ -140,6 +140,7 @@ class Reflex:
             self._keep.append(cell)
         if not definition.cut_dorsal_roots:
             self._connect_motoneurons(h, pc)
+        pool._keep.append(self)   # the pool holds the loop until its destroy(), whether or not the caller does
 
     def _build_afferent(self, h: Any, pc: Any, kind: str, mechanism: str, gid: int, unit: int, k: int,
                         n: int) -> None:
@@ -209,5 +210,5 @@ class Reflex:
 
 def attach_reflex(pool: Pool, definition: ReflexDefinition | None = None) -> Reflex:
     """Build ``definition``'s afferents on ``pool`` and connect them to its motoneurons (module docstring).  Call
-    on every rank, after the pool and before its drive and run."""
+    on every rank, after the pool and before its drive and run; the pool keeps the loop until it is destroyed."""
     return Reflex(pool, definition or ReflexDefinition())

@@ -58,6 +58,29 @@ def test_ib_inhibition_lowers_the_discharge():
     assert sum(s.size for s in inhibited.spikes_ms) < sum(s.size for s in excite_only.spikes_ms)
 
 
+def test_ia_weights_go_by_motoneuron_type():
+    """The test pool is all type S: Ia weights on FR and FF alone change nothing, on S they raise the discharge."""
+    cut, _ = _run(ReflexDefinition(n_ia=6, n_ib=0, xref_mm=-10.0, cut_dorsal_roots=True))
+    others, _ = _run(ReflexDefinition(n_ia=6, n_ib=0, xref_mm=-10.0, ia_weight_uS={"S": 0.0, "FR": 0.01, "FF": 0.01}))
+    s_only, _ = _run(ReflexDefinition(n_ia=6, n_ib=0, xref_mm=-10.0, ia_weight_uS={"S": 0.004, "FR": 0.0, "FF": 0.0}))
+    assert all(np.array_equal(a, b) for a, b in zip(cut.spikes_ms, others.spikes_ms))
+    assert sum(s.size for s in s_only.spikes_ms) > sum(s.size for s in cut.spikes_ms) + 5
+
+
+def test_cvode_runs_the_loop_as_the_fixed_step_does():
+    """The afferents sample by self-events, which CVODE steps to: the same discharge, the force within 5 %."""
+    reflex = ReflexDefinition(n_ia=6, n_ib=2, xref_mm=-10.0)
+    results = []
+    for sim in (Simulator(method="fixed", dt_ms=0.025), Simulator(method="cvode")):
+        with Pool(_definition(4), length=LENGTH) as pool:
+            attach_reflex(pool, reflex)
+            pool.drive_synaptic([0.0, 700.0], [0.003, 0.003])
+            results.append(pool.run(700.0, sim))
+    fixed, cvode = results
+    assert [s.size for s in fixed.spikes_ms] == [s.size for s in cvode.spikes_ms] and fixed.spikes_ms[0].size > 2
+    assert cvode.pool_force_N[-1] == pytest.approx(fixed.pool_force_N[-1], rel=0.05)
+
+
 def test_coreneuron_gives_neurons_reflex_bit_for_bit():
     reflex = ReflexDefinition(n_ia=3, n_ii=1, n_ib=2, xref_mm=-10.0)
     a, aff_a = _run(reflex, n=2)
