@@ -288,7 +288,6 @@ class Simulator:
         from ..errors import NumericalError
 
         pc = h.ParallelContext()
-        pc.set_maxstep(self.maxstep_ms)
         budget = self.budget_s(duration_ms)
         start = time.perf_counter()
         while h.t < duration_ms:
@@ -324,6 +323,11 @@ class Simulator:
         saved = self.snapshot()
         try:
             self._apply()
+            pc = h.ParallelContext()
+            if self.method != "cvode" or pc.nhost() > 1 or self.local_dt:
+                # before finitialize, which sets up the spike exchange between ranks: set after it, the first run
+                # of a newly built network does not deliver the spikes that cross ranks as one rank does
+                pc.set_maxstep(self.maxstep_ms)
             if self.v_init_mV is None:
                 h.finitialize()
             else:
@@ -334,8 +338,6 @@ class Simulator:
                 start = time.perf_counter()
                 self._cvode_with_budget(duration_ms)
             else:  # psolve steps in C: no per-step hoc interpreter loop
-                pc = h.ParallelContext()
-                pc.set_maxstep(self.maxstep_ms)
                 start = time.perf_counter()
                 self._fixed_psolve(duration_ms, chunk_ms, after_chunk)
             return time.perf_counter() - start

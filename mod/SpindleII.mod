@@ -1,0 +1,44 @@
+TITLE SpindleII: muscle spindle secondary (group II) afferent, Prochazka's rate equation
+
+COMMENT
+A muscle spindle secondary ending (group II afferent) after Prochazka (1999, Prog Brain Res 123:133-142): a
+length receptor, its rate (/s) linear in the stretch with a fusimotor term and a constant, no velocity term:
+
+    rate = kd (d/dref) + ke fus + r0          (/s)
+
+d = xm - xref (mm, the stretch from the reference length xref), fus (1): the EMG-like fusimotor drive in % of
+maximal activation.  Defaults: kd = 13.5 /s, ke = 0.02 /s per %, r0 = 80 /s, dref = 1 mm (d in mm in the fit).
+The rate is held at 0 or above (afferent_encoder.inc).
+The defaults are the coefficients commonly quoted from Prochazka (1999); they were not checked against the
+paper's text: check them before a quantitative use.
+
+Coupling: POINTER xm -> muscle length (mm) of a MuscleLength point process.
+Spikes: the shared encoder (afferent_encoder.inc) integrates the rate to threshold and calls net_event.
+Deterministic: no random numbers; phase0 (1) staggers afferents that read the same length.
+ENDCOMMENT
+
+NEURON {
+    POINT_PROCESS SpindleII
+    THREADSAFE
+    POINTER xm
+    RANGE kd, dref, ke, fus, r0, xref, sample_ms, max_rate, phase0, rate, phase
+}
+
+PARAMETER {
+    kd = 13.5 (/s)
+    dref = 1 (mm)
+    ke = 0.02 (/s)
+    fus = 0 (1)
+    r0 = 80 (/s)
+    xref = -8 (mm)
+}
+
+ASSIGNED {
+    xm (mm)
+}
+
+FUNCTION rate_now() (/s) {
+    rate_now = kd*(xm - xref)/dref + ke*fus + r0
+}
+
+INCLUDE "afferent_encoder.inc"

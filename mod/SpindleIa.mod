@@ -1,0 +1,56 @@
+TITLE SpindleIa: muscle spindle primary (group Ia) afferent, Prochazka's rate equation
+
+COMMENT
+A muscle spindle primary ending (group Ia afferent) after Prochazka & Gorassini (1998, J Physiol 507:277-291) and
+Prochazka (1999, Prog Brain Res 123:133-142): the firing rate (/s) is a power law of the stretch velocity plus
+terms in the stretch, a fusimotor drive that follows the muscle's activation, and a constant:
+
+    rate = kv sgn(v) (|v|/vref)^0.6 + kd (d/dref) + ke fus + r0          (/s)
+
+v = vm (mm/s, positive = lengthening), d = xm - xref (mm, the stretch from the reference length xref), fus (1):
+the EMG-like fusimotor drive in % of maximal activation.  Defaults: kv = 4.3 /s, kd = 2 /s, ke = 0.06 /s per %,
+r0 = 82 /s; vref = dref = 1 (mm/s, mm) carry the units of the published fit (v in mm/s, d in mm).  A shortening
+muscle (v < 0) lowers the rate symmetrically; the rate is held at 0 or above (afferent_encoder.inc).
+The fit: the ensemble firing of nine hamstring spindle primaries of cats walking, 132 step cycles; the power-law
+velocity models predicted it with r.m.s. errors below 14 % of its modulation depth (Prochazka & Gorassini 1998).
+
+Coupling: POINTER xm -> muscle length (mm) of a MuscleLength point process; POINTER vm -> its velocity (mm/s).
+Spikes: the shared encoder (afferent_encoder.inc) integrates the rate to threshold and calls net_event; a NetCon
+from this point process (or ParallelContext.cell) carries them to the motoneurons.  Deterministic: no random
+numbers; phase0 (1) staggers afferents that read the same length.
+ENDCOMMENT
+
+NEURON {
+    POINT_PROCESS SpindleIa
+    THREADSAFE
+    POINTER xm, vm
+    RANGE kv, vref, kd, dref, ke, fus, r0, xref, sample_ms, max_rate, phase0, rate, phase
+}
+
+PARAMETER {
+    kv = 4.3 (/s)
+    vref = 1 (mm/s)
+    kd = 2 (/s)
+    dref = 1 (mm)
+    ke = 0.06 (/s)
+    fus = 0 (1)
+    r0 = 82 (/s)
+    xref = -8 (mm)
+}
+
+ASSIGNED {
+    xm (mm)
+    vm (mm/s)
+}
+
+FUNCTION rate_now() (/s) {
+    LOCAL p
+    if (vm >= 0) {
+        p = pow(vm/vref, 0.6)
+    } else {
+        p = -pow(-vm/vref, 0.6)
+    }
+    rate_now = kv*p + kd*(xm - xref)/dref + ke*fus + r0
+}
+
+INCLUDE "afferent_encoder.inc"

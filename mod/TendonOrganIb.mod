@@ -1,0 +1,42 @@
+TITLE TendonOrganIb: Golgi tendon organ (group Ib) afferent, Prochazka's rate equation
+
+COMMENT
+A Golgi tendon organ (group Ib afferent) after Prochazka (1999, Prog Brain Res 123:133-142): a force receptor in
+series with the muscle fibres, its rate (/s) proportional to the force they pull with:
+
+    rate = kf F/fmax + r0          (/s)
+
+F (N): the force of the muscle unit it reads; fmax (N): the force the rate is scaled by (the unit's maximal
+force, set from Python).  Defaults: kf = 333 /s, r0 = 0 /s.  The rate is held at 0 or above
+(afferent_encoder.inc).  The default gain is the one commonly quoted from Prochazka (1999); it was not
+checked against the paper's text: check it before a quantitative use.
+
+Coupling: POINTER F -> the force (N) of the muscle unit's contraction mechanism (KimForce.F, KimUnit.F).
+Registration order: this file is registered before the Kim modules: it reads the force of the previous step
+(one time step's lag, far below the afferent's conduction delay).
+Spikes: the shared encoder (afferent_encoder.inc) integrates the rate to threshold and calls net_event.
+Deterministic: no random numbers; phase0 (1) staggers afferents.
+ENDCOMMENT
+
+NEURON {
+    POINT_PROCESS TendonOrganIb
+    THREADSAFE
+    POINTER F
+    RANGE kf, fmax, r0, sample_ms, max_rate, phase0, rate, phase
+}
+
+PARAMETER {
+    kf = 333 (/s)
+    fmax = 1 (N)
+    r0 = 0 (/s)
+}
+
+ASSIGNED {
+    F (N)
+}
+
+FUNCTION rate_now() (/s) {
+    rate_now = kf*F/fmax + r0
+}
+
+INCLUDE "afferent_encoder.inc"

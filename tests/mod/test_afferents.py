@@ -1,0 +1,85 @@
+"""The afferent mechanisms (SpindleIa, SpindleII, TendonOrganIb) fire at the rates of Prochazka's equations,
+evaluated here in Python: each rate rises with what its receptor reads (stretch velocity, stretch, force), a
+shortening spindle slows, and the rate never goes below 0."""
+
+import numpy as np
+import pytest
+
+from neuromuscle.model.mechanisms import load_mechanisms
+
+DURATION_MS = 2000.0
+
+
+def _ia(v, d, fus=0.0):
+    """Prochazka & Gorassini 1998 / Prochazka 1999, Ia: v in mm/s, d in mm, fus in %."""
+    return max(0.0, 4.3 * np.sign(v) * abs(v) ** 0.6 + 2.0 * d + 0.06 * fus + 82.0)
+
+
+def _ii(d, fus=0.0):
+    return max(0.0, 13.5 * d + 0.02 * fus + 80.0)
+
+
+def _ib(force_N, fmax_N):
+    return max(0.0, 333.0 * force_N / fmax_N)
+
+
+def _rate(kind, xm=-8.0, vm=0.0, force_N=0.0, fmax_N=1.0, fus=0.0):
+    """The mechanism's spike count over DURATION_MS as a rate (Hz), the inputs held constant."""
+    load_mechanisms()
+    from neuron import h
+
+    h.load_file("stdrun.hoc")
+    sec = h.Section(name="afferent_test")
+    length = h.MuscleLength(sec(0.5))
+    length.xm, length.vm = xm, vm
+    play = h.SynthPlay(sec(0.5))
+    play.force_offset = force_N
+    receptor = getattr(h, kind)(sec(0.5))
+    if kind == "TendonOrganIb":
+        h.setpointer(play._ref_force_offset, "F", receptor)
+        receptor.fmax = fmax_N
+    else:
+        receptor.xref, receptor.fus = -8.0, fus
+        h.setpointer(length._ref_xm, "xm", receptor)
+        if kind == "SpindleIa":
+            h.setpointer(length._ref_vm, "vm", receptor)
+    spikes = h.Vector()
+    nc = h.NetCon(receptor, None)
+    nc.record(spikes)
+    h.CVode().active(0)
+    h.dt = 0.025
+    h.finitialize(-65.0)
+    h.continuerun(DURATION_MS)
+    return spikes.size() * 1000.0 / DURATION_MS, float(receptor.rate)
+
+
+@pytest.mark.parametrize("v", [0.0, 5.0, 20.0, 80.0, -10.0])
+@pytest.mark.parametrize("d", [0.0, 4.0])
+def test_ia_rate_is_the_equation(v, d):
+    rate, held = _rate("SpindleIa", xm=-8.0 + d, vm=v)
+    assert held == pytest.approx(_ia(v, d), rel=1e-12)
+    assert rate == pytest.approx(_ia(v, d), abs=1.0 / (DURATION_MS / 1000.0))  # one spike over the run
+
+
+def test_ia_rate_rises_with_velocity_and_stretch_and_fusimotor_drive():
+    by_v = [_rate("SpindleIa", vm=v)[0] for v in (0.0, 10.0, 40.0, 100.0)]
+    by_d = [_rate("SpindleIa", xm=-8.0 + d)[0] for d in (0.0, 5.0, 10.0)]
+    assert np.all(np.diff(by_v) > 5.0) and np.all(np.diff(by_d) > 5.0)
+    assert _rate("SpindleIa", fus=100.0)[0] > by_v[0] + 4.0
+
+
+@pytest.mark.parametrize("d", [-2.0, 0.0, 3.0, 8.0])
+def test_ii_rate_is_the_equation_and_ignores_velocity(d):
+    rate, _ = _rate("SpindleII", xm=-8.0 + d, vm=50.0)
+    assert rate == pytest.approx(_ii(d), abs=0.5)
+
+
+@pytest.mark.parametrize("force_N", [0.0, 0.2, 0.5, 1.0])
+def test_ib_rate_is_the_equation(force_N):
+    rate, _ = _rate("TendonOrganIb", force_N=force_N, fmax_N=2.0)
+    assert rate == pytest.approx(_ib(force_N, 2.0), abs=0.5)
+
+
+def test_rates_stay_at_or_above_zero():
+    assert _rate("SpindleII", xm=-8.0 - 10.0)[0] == 0.0          # 13.5 * -10 + 80 < 0
+    assert _rate("SpindleIa", vm=-2000.0)[0] == 0.0
