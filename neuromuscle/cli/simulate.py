@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -90,21 +91,27 @@ def _length(args: argparse.Namespace) -> tuple[LengthTrace | float, dict]:
     return args.xm_mm, {"length": "isometric", "xm_mm": args.xm_mm}
 
 
+def parse_assignments(text: str, bad: Callable[[str], str]) -> dict[str, float]:
+    """``"KEY=NUMBER,KEY=NUMBER"`` -> {key: number}; InputError with ``bad(piece)`` for a piece that is not one."""
+    out: dict[str, float] = {}
+    for piece in filter(str.strip, text.split(",")):
+        key, eq, value = piece.partition("=")
+        try:
+            out[key.strip()] = float(value)
+        except ValueError:
+            raise InputError(bad(piece)) from None
+        if not eq:
+            raise InputError(bad(piece))
+    return out
+
+
 def parse_extensions(items: list[str]) -> dict[str, dict[str, float]]:
     """``["fatigue", "staircase:gain=0.2,tau_ms=500"]`` -> {name: {param: value}}; InputError on bad syntax."""
     out: dict[str, dict[str, float]] = {}
     for item in items:
         name, _, rest = item.partition(":")
-        values: dict[str, float] = {}
-        for kv in filter(None, rest.split(",")):
-            k, eq, v = kv.partition("=")
-            try:
-                values[k.strip()] = float(v)
-            except ValueError:
-                raise InputError(f"--extension {item!r}: expected NAME[:PARAM=VALUE,...]") from None
-            if not eq:
-                raise InputError(f"--extension {item!r}: expected NAME[:PARAM=VALUE,...]")
-        out[name.strip()] = values
+        bad = f"--extension {item!r}: expected NAME[:PARAM=VALUE,...]"
+        out[name.strip()] = parse_assignments(rest, lambda _, bad=bad: bad)
     return out
 
 

@@ -70,18 +70,10 @@ def list_text() -> str:
 
 def parse_also(text: str | None) -> dict[str, float]:
     """``--also`` text, ``CAUSE=STRENGTH[,...]``, as {cause: strength}; InputError naming a malformed item."""
-    out: dict[str, float] = {}
-    for item in (text or "").split(","):
-        if not item.strip():
-            continue
-        name, sep, value = item.partition("=")
-        try:
-            out[name.strip()] = float(value)
-        except ValueError:
-            raise InputError(f"--also {item!r}: give CAUSE=STRENGTH, strength a number in [0, 1]") from None
-        if not sep:
-            raise InputError(f"--also {item!r}: give CAUSE=STRENGTH, strength a number in [0, 1]")
-    return out
+    from .simulate import parse_assignments
+
+    return parse_assignments(text or "", lambda piece: f"--also {piece!r}: give CAUSE=STRENGTH, strength a number "
+                                                       "in [0, 1]")
 
 
 def world_from(args: argparse.Namespace):
