@@ -4,6 +4,10 @@
 
 A :class:`FitProblem` maps a search vector z (see :mod:`.transforms`) to a ParameterSet and to the residual
 vector of its objective (:mod:`.objectives`); the simulation of each trial is :func:`.evaluate.trial_simulation`.
+
+Eq 11 needs the lengthening coefficient c0 above -P0 (its asymptote above the isometric force).  When both are
+free, c0 is searched as the fraction c0/P0 in (-1, 0], so no point of the search crosses the asymptote whatever
+P0 does; when only one is free, its bounds are narrowed to keep c0/P0 >= -``C0_OVER_P0_MIN``.
 """
 
 from __future__ import annotations
@@ -21,6 +25,9 @@ from ..parameters import SPECS, ParameterSet
 from .evaluate import SimulationOptions
 from .objectives import OBJECTIVES, residual_scales, weighted_residuals
 from .transforms import Transform, default_bounds
+
+#: The most negative c0/P0 a fit may reach (eq 11's asymptote (2 + c0/P0) Fc must stay above Fc).
+C0_OVER_P0_MIN = 0.999
 
 
 class FitProblem:
@@ -89,7 +96,16 @@ class FitProblem:
                 raise InputError(f"free parameter {n!r}: start {p0} {spec.unit} is outside its bounds "
                                  f"[{lo}, {hi}]")
             self.bounds[n] = (lo, hi)
-            self._tf.append(Transform.for_parameter(n, p0, lo, hi))
+        self._c0_relative = "c0" in self.bounds and "P0" in self.bounds
+        self._narrow_for_eq11()
+        for n in self.free:
+            lo, hi = self.bounds[n]
+            if n == "c0" and self._c0_relative:
+                p0_start = self.start["P0"]
+                self._tf.append(Transform.for_parameter("c0", self.start["c0"] / p0_start, lo / p0_start,
+                                                        hi / p0_start))
+            else:
+                self._tf.append(Transform.for_parameter(n, self.start[n], lo, hi))
         needs_stim = [n for n in self.free if SPECS[n].module in (0, 1, 2)]
         for t in self.trials:
             if np.size(t.stimulus_times_s) == 0:
@@ -100,6 +116,26 @@ class FitProblem:
                 raise InputError(f"trial '{t.trial_id}' has fewer than 2 samples")
         self._scale = residual_scales(self.trials, self.weights, objective)
 
+    def _narrow_for_eq11(self) -> None:
+        """Narrow the bounds of c0 (and of P0 when c0 is held) so that c0/P0 >= -C0_OVER_P0_MIN everywhere in
+        the search (with both free, c0's bounds are read as fractions of the start P0)."""
+        floor = -C0_OVER_P0_MIN
+        if "c0" in self.bounds:
+            p0 = self.start["P0"] if "P0" in self.bounds else float(self.base["P0"])
+            lo, hi = self.bounds["c0"]
+            lo = max(lo, floor * p0)
+            if not lo <= self.start["c0"] <= hi or not lo < hi:
+                raise InputError(f"free parameter 'c0': start {self.start['c0']} N is outside (-P0, 0] with "
+                                 f"P0 = {p0} N (eq 11 needs c0 > -P0)")
+            self.bounds["c0"] = (lo, hi)
+        elif "P0" in self.bounds:
+            lo, hi = self.bounds["P0"]
+            lo = max(lo, float(self.base["c0"]) / floor)
+            if not lo <= self.start["P0"] <= hi:
+                raise InputError(f"free parameter 'P0': start {self.start['P0']} N must exceed -c0 = "
+                                 f"{-float(self.base['c0'])} N (eq 11 needs c0 > -P0)")
+            self.bounds["P0"] = (lo, hi)
+
     # -- search space -------------------------------------------------------------------------------------
     @property
     def n_residuals(self) -> int:
@@ -107,22 +143,37 @@ class FitProblem:
 
     def z_bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """Bounds of the search vector z."""
-        lo = np.array([tf.to_z(self.bounds[tf.name][0]) for tf in self._tf])
-        hi = np.array([tf.to_z(self.bounds[tf.name][1]) for tf in self._tf])
+        def searched(name: str, p: float) -> float:
+            return p / self.start["P0"] if name == "c0" and self._c0_relative else p
+
+        lo = np.array([tf.to_z(searched(tf.name, self.bounds[tf.name][0])) for tf in self._tf])
+        hi = np.array([tf.to_z(searched(tf.name, self.bounds[tf.name][1])) for tf in self._tf])
         return lo, hi
 
     def to_z(self, values: Mapping[str, float]) -> np.ndarray:
         """Search vector of the free parameters' ``values`` (parameter units)."""
-        return np.array([tf.to_z(float(values[tf.name])) for tf in self._tf])
+        return np.array([tf.to_z(float(values["c0"]) / float(values["P0"]) if tf.name == "c0" and self._c0_relative
+                                 else float(values[tf.name])) for tf in self._tf])
 
     def to_values(self, z: Sequence[float]) -> dict[str, float]:
         """The free parameters (parameter units) at search vector z."""
-        return {tf.name: tf.to_p(float(zi)) for tf, zi in zip(self._tf, z)}
+        vals = {tf.name: tf.to_p(float(zi)) for tf, zi in zip(self._tf, z)}
+        if self._c0_relative:
+            vals["c0"] *= vals["P0"]
+        return vals
 
     def dp_dz(self, z: Sequence[float]) -> np.ndarray:
-        """dp/dz of every free parameter at z (parameter units per unit of z)."""
+        """dp/dz at z (parameter units per unit of z): a vector (the diagonal) when every parameter is searched
+        alone, the full k x k matrix dp_i/dz_j when c0 is searched as a fraction of P0."""
         vals = self.to_values(z)
-        return np.array([tf.dp_dz(vals[tf.name]) for tf in self._tf])
+        if not self._c0_relative:
+            return np.array([tf.dp_dz(vals[tf.name]) for tf in self._tf])
+        ic, ip = self.free.index("c0"), self.free.index("P0")
+        ratio = vals["c0"] / vals["P0"]
+        jac = np.diag([tf.dp_dz(ratio if tf.name == "c0" else vals[tf.name]) for tf in self._tf])
+        jac[ic, ic] *= vals["P0"]
+        jac[ic, ip] = ratio * jac[ip, ip]
+        return jac
 
     def parameters(self, z: Sequence[float]) -> ParameterSet:
         """The complete ParameterSet at search vector z."""
@@ -130,7 +181,9 @@ class FitProblem:
 
     def reference(self) -> dict[str, dict[str, Any]]:
         """The transform of each free parameter (for the checkpoint)."""
-        return {tf.name: {"ref": tf.ref, "log": tf.log, "scale": tf.scale} for tf in self._tf}
+        return {tf.name: {"ref": tf.ref, "log": tf.log, "scale": tf.scale,
+                          **({"of": "c0/P0"} if tf.name == "c0" and self._c0_relative else {})}
+                for tf in self._tf}
 
     def with_options(self, options: SimulationOptions) -> FitProblem:
         """The same problem (trials, weights, free parameters, search space) simulated with other ``options``."""

@@ -127,12 +127,25 @@ def _inverse_svd(svals: np.ndarray, vt: np.ndarray) -> np.ndarray:
     return c_inv
 
 
+def _to_parameter_units(cov_z: np.ndarray, dp_dz: np.ndarray) -> np.ndarray:
+    """The covariance of the parameters from that of z: D cov_z D^T with D = dp/dz (a vector: its diagonal);
+    an infinite (unidentified) entry of cov_z makes every entry it reaches infinite."""
+    d = np.asarray(dp_dz, dtype=float)
+    if d.ndim == 1:
+        return cov_z * np.outer(d, d)
+    unknown = ~np.isfinite(cov_z)
+    cov = d @ np.where(unknown, 0.0, cov_z) @ d.T
+    reach = (np.abs(d) > 0).astype(float)
+    return np.where(reach @ unknown.astype(float) @ reach.T > 0, np.inf, cov)
+
+
 def estimate_uncertainty(names: Sequence[str], z: np.ndarray, jac_z: np.ndarray, resid: np.ndarray,
                          to_p: Callable[[np.ndarray], np.ndarray], dp_dz: np.ndarray, rules: Rules, *,
                          covariance: str = "iid", segments: Sequence[int] | None = None,
                          model_error: np.ndarray | None = None) -> Uncertainty:
     """The :class:`Uncertainty` at search vector z from J = dr/dz (n x k), the residuals r (n), the map
-    ``to_p`` from z (array) to parameter units and dp/dz at z; ``rules``: the engine's; ``covariance``: one of
+    ``to_p`` from z (array) to parameter units and dp/dz at z (a vector when each parameter depends on its own z
+    only, else the k x k matrix); ``rules``: the engine's; ``covariance``: one of
     ``COVARIANCES``, ``segments``: lengths of the independent series r is made of (default: one), ``model_error``:
     the model's numerical error at z (n, residual units) or None (module docstring)."""
     if covariance not in COVARIANCES:
@@ -163,10 +176,10 @@ def estimate_uncertainty(names: Sequence[str], z: np.ndarray, jac_z: np.ndarray,
         else:
             cov_n = c_fin @ (hac_middle(jn, resid, segments) * (n / dof)) @ c_fin
             cov_z = np.where(np.isfinite(c_inv), cov_n, np.inf) / np.outer(safe, safe)
-        cov_p = cov_z * np.outer(dp_dz, dp_dz)
+        cov_p = _to_parameter_units(cov_z, dp_dz)
     se = np.where(norms > 0, np.sqrt(np.maximum(np.diag(cov_p), 0.0)), np.inf)
     bias_z = np.zeros(k) if model_error is None else -(c_fin @ (jn.T @ model_error)) / safe
-    bias_p = bias_z * dp_dz
+    bias_p = bias_z * dp_dz if np.ndim(dp_dz) == 1 else np.asarray(dp_dz) @ bias_z
     tq = float(student_t.ppf(0.975, dof))
     est = to_p(z)
     if rules.interval == "parameter":

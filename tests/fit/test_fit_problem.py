@@ -34,3 +34,43 @@ def test_input_errors(ct09, twitch_trials):
         fit(problem, method="nelder")
     with pytest.raises(InputError, match="not found"):
         fit(problem, checkpoint="/nonexistent/fit.json", resume=True)
+
+
+def test_free_c0_and_p0_never_cross_the_asymptote(ct09, twitch_trials):
+    """Eq 11 needs c0 > -P0: with both free, c0 is searched as a fraction of P0, so every corner of the search box
+    (P0 at a tenth of its start, c0 at twice its start) is a valid parameter set."""
+    base = ct09.with_values(c0=-0.8 * ct09["P0"])
+    problem = FitProblem(twitch_trials[:1], base, ["P0", "c0"], options=OPTS)
+    lo, hi = problem.z_bounds()
+    for z in ([lo[0], lo[1]], [lo[0], hi[1]], [hi[0], lo[1]], [hi[0], hi[1]]):
+        vals = problem.to_values(z)
+        assert vals["c0"] / vals["P0"] >= -0.999
+        problem.parameters(z)  # admissible: KimForce's check would refuse otherwise
+    z = np.array([0.3, -0.2])
+    np.testing.assert_allclose(problem.to_z(problem.to_values(z)), z, atol=1e-12)
+    assert problem.reference()["c0"]["of"] == "c0/P0"
+
+
+def test_coupled_search_derivative_matches_finite_differences(ct09, twitch_trials):
+    problem = FitProblem(twitch_trials[:1], ct09, ["C3", "P0", "c0"], options=OPTS)
+    z = np.array([0.1, 0.2, -0.1])
+    jac = problem.dp_dz(z)
+    assert jac.shape == (3, 3)
+    h = 1e-6
+    for j in range(3):
+        dz = np.zeros(3)
+        dz[j] = h
+        up, down = problem.to_values(z + dz), problem.to_values(z - dz)
+        np.testing.assert_allclose([(up[n] - down[n]) / (2 * h) for n in problem.free], jac[:, j], rtol=1e-6,
+                                   atol=1e-9)
+
+
+def test_one_of_p0_and_c0_free_keeps_the_asymptote(ct09, twitch_trials):
+    base = ct09.with_values(c0=-0.9 * ct09["P0"])
+    alone = FitProblem(twitch_trials[:1], base, ["P0"], options=OPTS)
+    assert alone.bounds["P0"][0] >= -base["c0"] / 0.999
+    assert np.ndim(alone.dp_dz(np.zeros(1))) == 1
+    c0_alone = FitProblem(twitch_trials[:1], base, ["c0"], options=OPTS)
+    assert c0_alone.bounds["c0"][0] >= -0.999 * base["P0"]
+    with pytest.raises(InputError, match="eq 11 needs c0 > -P0"):
+        FitProblem(twitch_trials[:1], base, ["P0"], start={"P0": 0.5 * base["P0"]}, options=OPTS)

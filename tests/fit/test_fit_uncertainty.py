@@ -94,3 +94,19 @@ def test_rules_differ_where_documented():
     assert muscle.identifiable["b0"] and muscle.identifiable["b2"]
     assert all(np.isfinite(v) for v in twitch.std_errors.values())
     assert all(np.isfinite(v) for v in twitch.vif.values())
+
+
+def test_covariance_through_a_coupled_map():
+    """D cov_z D^T for a full dp/dz; an unidentified z makes every parameter it reaches unidentified."""
+    from neuromuscle.fit.uncertainty import _to_parameter_units
+
+    cov_z = np.array([[0.04, 0.01], [0.01, 0.09]])
+    d = np.array([[2.0, 0.0], [0.5, 3.0]])
+    np.testing.assert_allclose(_to_parameter_units(cov_z, d), d @ cov_z @ d.T)
+    np.testing.assert_allclose(_to_parameter_units(cov_z, np.array([2.0, 3.0])), cov_z * np.outer([2, 3], [2, 3]))
+    cov_z[0, 0] = np.inf
+    out = _to_parameter_units(cov_z, d)
+    assert np.all(np.isinf(out))
+    d[1, 0] = 0.0
+    out = _to_parameter_units(cov_z, d)
+    assert np.isinf(out[0, 0]) and np.isfinite(out[1, 1])
