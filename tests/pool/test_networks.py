@@ -51,11 +51,12 @@ def test_human_pool_default(tmp_path):
 @pytest.mark.skipif(not CAILLET.is_dir(), reason=f"Caillet real-data folder {CAILLET} is absent")
 def test_recorded_discharges_default(tmp_path):
     s = _script("recorded_discharges").main(["--out", str(tmp_path / "out")])
-    assert s["units"] == 17 and s["nrmse_heldout_percent"] < 30.0
-    with h5py.File(tmp_path / "out" / "recorded_discharges.h5") as f:
-        assert f.attrs["force_unit"] == "% MVC" and f["p0"].shape == (17,)
-        assert f["predicted_force"].shape == f["recorded_force"].shape
-    assert (tmp_path / "out" / "recorded_discharges.png").stat().st_size > 10_000
+    assert s["file"] == "S1_30_36L.mat" and s["units"] == 17
+    assert s["human_units"]["nrmse_heldout_percent"] < 30.0 and s["twitch_sum"]["nrmse_heldout_percent"] < 30.0
+    with h5py.File(tmp_path / "out" / "discharges.h5") as f:
+        assert f.attrs["force_unit"] == "% MVC" and f["unit_p0_relative"].shape == (17,)
+        assert f["predicted_force_human_units"].shape == f["recorded_force"].shape
+    assert (tmp_path / "out" / "discharges.png").stat().st_size > 10_000
 
 
 @pytest.mark.skipif(not CAILLET.is_dir(), reason=f"Caillet real-data folder {CAILLET} is absent")
