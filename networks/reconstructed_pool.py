@@ -5,9 +5,9 @@ neuromuscle.pool.cells), under the file's recruitment ramp of the common synapti
 Prints its figures as JSON: units recruited and their recruitment order and times, each unit's peak rate, the
 pool's peak force, the first unit's somatic and dendritic voltage ranges, and the run's wall time.  Every unit
 has the same cell under the same common drive, so all are recruited together and fire at the same rates; the
-units differ in their muscle (P0, type).  Replace the file's morphology and channels with your own cells.  Writes DIR/pool.h5
-(with provenance), DIR/reconstructed_pool.json and DIR/reconstructed_pool.png.
-Run: python networks/reconstructed_pool.py --out DIR [--units N] [--duration-ms T] [--overwrite]  (about 10 s)
+units differ in their muscle (P0, type).  Replace the file's morphology and channels with your own cells.
+Writes DIR/pool.h5 (with provenance), DIR/reconstructed_pool.json and DIR/reconstructed_pool.png.
+Run: python networks/reconstructed_pool.py --out DIR [--units N] [--duration-ms T] [--overwrite]  (a few seconds)
 Units: ms, mV, N, Hz.
 """
 
