@@ -1,18 +1,21 @@
 TITLE SpindleIa: muscle spindle primary (group Ia) afferent, Prochazka's rate equation
 
 COMMENT
-A muscle spindle primary ending (group Ia afferent) after Prochazka & Gorassini (1998, J Physiol 507:277-291) and
-Prochazka (1999, Prog Brain Res 123:133-142): the firing rate (/s) is a power law of the stretch velocity plus
-terms in the stretch, a fusimotor drive that follows the muscle's activation, and a constant:
+A muscle spindle primary ending (group Ia afferent): the rate equation Prochazka & Gorassini fitted to the ensemble
+firing of cat hamstring spindle primaries during walking (1998, J Physiol 507:277-291), restated by Prochazka (1999,
+Quantifying proprioception, Prog Brain Res 123:133-142): a power law of the stretch velocity plus terms in the
+stretch, a fusimotor drive that follows the muscle's activation, and a constant:
 
     rate = kv sgn(v) (|v|/vref)^0.6 + kd (d/dref) + ke fus + r0          (/s)
 
 v = vm (mm/s, positive = lengthening), d = xm - xref (mm, the stretch from the reference length xref), fus (1):
-the EMG-like fusimotor drive in % of maximal activation.  Defaults: kv = 4.3 /s, kd = 2 /s, ke = 0.06 /s per %,
-r0 = 82 /s; vref = dref = 1 (mm/s, mm) carry the units of the published fit (v in mm/s, d in mm).  A shortening
-muscle (v < 0) lowers the rate symmetrically; the rate is held at 0 or above (afferent_encoder.inc).
-The fit: the ensemble firing of nine hamstring spindle primaries of cats walking, 132 step cycles; the power-law
-velocity models predicted it with r.m.s. errors below 14 % of its modulation depth (Prochazka & Gorassini 1998).
+the EMG-like fusimotor drive in % of maximal activation.  Defaults: kv = 4.3 /s, kd = 2 /s per mm, r0 = 82 /s
+(Prochazka & Gorassini 1998: v in mm/s, d in mm; their fit of nine hamstring primaries over 132 step cycles
+predicted the ensemble rate with r.m.s. errors below 14 % of its modulation depth); vref = dref = 1 (mm/s, mm)
+carry the units of the fit.  ke = 0.5 /s per %: the fusimotor term of the spinal circuit model of Moraud et al.
+(2016, Neuron 89:814-828; ModelDB 189786), 50 /s at maximal normalised EMG (that model pairs it with a constant
+of 50 /s); the EMG coefficient of the 1998 fit itself was not found.  A shortening muscle (v < 0) lowers the
+rate symmetrically; the rate is held at 0 or above (afferent_encoder.inc).
 
 Coupling: POINTER xm -> muscle length (mm) of a MuscleLength point process; POINTER vm -> its velocity (mm/s).
 Spikes: the shared encoder (afferent_encoder.inc) integrates the rate to threshold and calls net_event; a NetCon
@@ -32,7 +35,7 @@ PARAMETER {
     vref = 1 (mm/s)
     kd = 2 (/s)
     dref = 1 (mm)
-    ke = 0.06 (/s)
+    ke = 0.5 (/s)
     fus = 0 (1)
     r0 = 82 (/s)
     xref = -8 (mm)

@@ -1,15 +1,18 @@
 TITLE TendonOrganIb: Golgi tendon organ (group Ib) afferent, Prochazka's rate equation
 
 COMMENT
-A Golgi tendon organ (group Ib afferent) after Prochazka (1999, Prog Brain Res 123:133-142): a force receptor in
-series with the muscle fibres, its rate (/s) proportional to the force they pull with:
+A Golgi tendon organ (group Ib afferent): a force receptor in series with the muscle fibres, its rate (/s)
+proportional to the force they pull with:
 
     rate = kf F/fmax + r0          (/s)
 
 F (N): the force of the muscle unit it reads; fmax (N): the force the rate is scaled by (the unit's maximal
 force, set from Python).  Defaults: kf = 333 /s, r0 = 0 /s.  The rate is held at 0 or above
-(afferent_encoder.inc).  The default gain is the one commonly quoted from Prochazka (1999); it was not
-checked against the paper's text: check it before a quantitative use.
+(afferent_encoder.inc).  The gain 333 /s is the one quoted for Prochazka's tendon organ model (Prochazka 1999,
+Prog Brain Res 123:133-142); no published source of it, nor of its units, was found: treat it as a placeholder.
+For scale: a soleus tendon organ fires about 314 /s per g of force on its own capsule, about two orders of
+magnitude more than per g measured at the tendon (Stephens & Stauffer 1975), and responds to the contraction of
+one or two in-series muscle fibres, under 0.1 g (Houk & Henneman 1967, J Neurophysiol 30:466-481).
 
 Coupling: POINTER F -> the force (N) of the muscle unit's contraction mechanism (KimForce.F, KimUnit.F).
 Registration order: this file is registered before the Kim modules: it reads the force of the previous step

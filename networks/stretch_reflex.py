@@ -2,7 +2,10 @@
 (networks/cat_soleus_pool.py) with the reflex loop intact (spindle Ia excitation, tendon organ Ib inhibition
 through interneurons: neuromuscle.pool.reflex) and with the dorsal roots cut (the afferents fire, nothing reaches
 the motoneurons), under the same weak tonic synaptic drive.  Compared: pool force and motoneuron discharge, and
-the afferents' rates at rest, during the ramp and during the hold against Prochazka's rate equations.
+the afferents' rates at rest, during the ramp and during the hold against their rate equations, and the afferents'
+figures (rate at the ramp's peak, dynamic index, hold rate per mm of stretch) beside recorded cat figures
+(``PUBLISHED``, with their sources).  Group II afferents excite the motoneurons after a longer delay
+(``ReflexDefinition.ii_weight_uS``).
 
 Stretch: from --x0-mm (default -10 mm) to --x1-mm (-4 mm) at --velocity-mm-s (30 mm/s) from 300 ms, then held
 until --duration-ms (1200 ms).  The spindles measure stretch from x0.
@@ -30,6 +33,26 @@ from cat_soleus_pool import definition  # noqa: E402
 
 FILES = ("stretch_reflex.json", "stretch_reflex.png")
 STRETCH_START_MS = 300.0
+#: Recorded cat afferent figures the model's are printed beside (rates in /s).
+PUBLISHED = [
+    {"figure": "spindle endings of the passive triceps surae stretched at 0.6 mm/s over up to 10 mm "
+               "(anaesthetised cat)",
+     "published": "endings signalling both stretch and its velocity (80 %): some above 70 /s during the stretch "
+                  "and 30-40 /s held, others less; length-only endings at most 20-25 /s held",
+     "source": "Gorbunova & Zalkind 1976, Fiziol Zh SSSR 62:878-884"},
+    {"figure": "velocity dependence of the response to a ramp stretch (primary and secondary endings)",
+     "published": "about v^0.3 for both, times a length term; an initial burst at the ramp's onset",
+     "source": "Houk, Rymer & Crago 1981, in Muscle Receptors and Movement"},
+    {"figure": "secondary endings during locomotion",
+     "published": "lower, more regular and less velocity dependent than primary endings",
+     "source": "Loeb, Hoffer & Pratt 1985, J Neurophysiol 54:549-564"},
+    {"figure": "tendon organ threshold to active contraction, soleus",
+     "published": "below 0.1 g: one or two in-series muscle fibres; 4-15 motor units drive each receptor",
+     "source": "Houk & Henneman 1967, J Neurophysiol 30:466-481"},
+    {"figure": "tendon organ static sensitivity to active force, soleus",
+     "published": "about 314 /s per g on the receptor's capsule, some two orders of magnitude less per g at the tendon",
+     "source": "Stephens & Stauffer 1975"},
+]
 
 
 def _rate(trains: list[np.ndarray], t0: float, t1: float) -> float:
@@ -37,6 +60,30 @@ def _rate(trains: list[np.ndarray], t0: float, t1: float) -> float:
     if not trains:
         return 0.0
     return float(np.mean([np.sum((s >= t0) & (s < t1)) for s in trains]) * 1000.0 / (t1 - t0))
+
+
+def _isi_rate(trains: list[np.ndarray], t0: float, t1: float) -> float:
+    """Rate (Hz) from the interspike intervals that end between t0 and t1 (ms), over every train."""
+    isi = [np.diff(s)[(s[1:] >= t0) & (s[1:] < t1)] for s in trains if s.size > 1]
+    isi = np.concatenate(isi) if isi else np.array([])
+    return float(1000.0 / isi.mean()) if isi.size else 0.0
+
+
+def afferent_figures(afferents: dict, rest: tuple[float, float], ramp_end_ms: float, hold: tuple[float, float],
+                     stretch_mm: float) -> dict:
+    """The spindle afferents' figures of a ramp-and-hold (Hz; /s per mm): rate at the ramp's peak (its last 10 ms),
+    0.5 s later, their difference (the dynamic index), the hold's rate over the rest's per mm of stretch; the
+    tendon organs' rates at rest and in the hold."""
+    out: dict = {}
+    for kind in ("Ia", "II"):
+        peak = _isi_rate(afferents[kind], ramp_end_ms - 10.0, ramp_end_ms)
+        later = _isi_rate(afferents[kind], ramp_end_ms + 490.0, ramp_end_ms + 500.0)
+        rest_hz, hold_hz = _rate(afferents[kind], *rest), _rate(afferents[kind], *hold)
+        out[kind] = {"ramp_peak_hz": round(peak, 1), "half_second_later_hz": round(later, 1),
+                     "dynamic_index_hz": round(peak - later, 1),
+                     "hold_per_mm_hz": round((hold_hz - rest_hz) / abs(stretch_mm), 2)}
+    out["Ib"] = {"rest_hz": round(_rate(afferents["Ib"], *rest), 1), "hold_hz": round(_rate(afferents["Ib"], *hold), 1)}
+    return out
 
 
 def run(n_units: int, x0: float, x1: float, velocity: float, duration: float, tonic_uS: float,
@@ -82,6 +129,11 @@ def summarise(runs: dict, x0: float, x1: float, velocity: float, duration: float
                        "hold": 2.0 * stretch["hold"] + 82.0},
                 "II": {"rest": 80.0, "ramp": 13.5 * d_ramp + 80.0, "hold": 13.5 * stretch["hold"] + 80.0}}
     out["afferent_rate_hz"] = rates
+    out["afferent_figures"] = afferent_figures(intact, windows["rest"], ramp_end, windows["hold"], x1 - x0)
+    # the equations at the slow stretch of the recorded figures (0.6 mm/s, held 10 mm beyond rest)
+    out["equation_at_0_6_mm_s_and_10_mm_hz"] = {"Ia_dynamic": round(4.3 * 0.6 ** 0.6, 1),
+                                                "Ia_hold": 2.0 * 10 + 82.0, "II_hold": 13.5 * 10 + 80.0}
+    out["published"] = PUBLISHED
     out["equation_rate_hz"] = {k: {w: round(v, 1) for w, v in e.items()} for k, e in expected.items()}
     out["reflex_force_gain"] = round(out["intact"]["force_N"]["hold"] / max(out["cut"]["force_N"]["hold"], 1e-9), 2)
     return out

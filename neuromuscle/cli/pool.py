@@ -83,8 +83,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                                     "pool.h5, pool.nwb and pool.png")
     p.add_argument("definition", nargs="?", default=None,
                    help="definition file (.toml or .json: sections units, drive, length, run, record, "
-                        "motoneuron); flags replace its fields; without it the flags and the defaults (a human "
-                        "pool) define the run")
+                        "motoneuron, reflex: the stretch-reflex loop, with a ramp-and-hold length); flags replace "
+                        "its fields; without it the flags and the defaults (a human pool) define the run")
     p.add_argument("--out", required=True, help="output folder (pool.h5, pool.nwb, pool.png)")
     p.add_argument("--overwrite", action="store_true", help="replace those files in --out")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
@@ -141,7 +141,10 @@ def _run(args: argparse.Namespace, rank: int, nhost: int) -> int:
     out = check_out_dir(args.out, args.overwrite, FILES)  # every rank: the same answer, before the run
     d = setup.definition
     drive = setup.document["drive"]["kind"]
-    _say(args.quiet, rank, f"pool {d.name!r}: {d.n_units} units on {nhost} rank(s), {drive} drive, "
+    r = setup.reflex
+    loop = "" if r is None else (f", stretch reflex ({r.n_ia} Ia, {r.n_ii} II, {r.n_ib} Ib"
+                                 f"{', dorsal roots cut' if r.cut_dorsal_roots else ''})")
+    _say(args.quiet, rank, f"pool {d.name!r}: {d.n_units} units on {nhost} rank(s), {drive} drive{loop}, "
                            f"{setup.duration_ms:g} ms ({setup.simulator.method}, {setup.simulator.engine})")
     t0 = time.perf_counter()
 
@@ -151,10 +154,12 @@ def _run(args: argparse.Namespace, rank: int, nhost: int) -> int:
 
     result, report = run_definition(d, setup.drive, setup.simulator, setup.duration_ms, nhost, length=setup.length,
                                     record_dt_ms=setup.record_dt_ms, recordings=setup.recordings, progress=progress,
-                                    cells=setup.cells)
+                                    cells=setup.cells, reflex=setup.reflex)
     if rank != 0:
         return 0
     result.provenance.update(_provenance(setup, args))
+    if "afferents" in report:
+        result.provenance["afferents"] = report["afferents"]
     folder = prepare_out_dir(out, args.overwrite, FILES)
     paths = [folder / f for f in FILES]
     result.save(paths[0], overwrite=args.overwrite)
@@ -164,6 +169,8 @@ def _run(args: argparse.Namespace, rank: int, nhost: int) -> int:
                "spikes": report["spikes"], "peak_pool_force_N": round(report["pool_force_peak_N"], 4),
                "sim_s": round(report["sim_s"], 2), "recorded": sorted(result.recordings),
                "files": [str(p) for p in paths]}
+    if "afferents" in report:
+        summary["afferents"] = report["afferents"]
     _say(args.quiet, rank, f"  done in {time.perf_counter() - t0:.1f} s")
     print(json.dumps(summary))
     return 0

@@ -16,7 +16,9 @@
     peak_uS = 0.6                      # ramp, rise: the synaptic conductance's peak (uS a cell)
     [length]
     mm = -8.0                          # isometric; or kind = "random" with seed (and centre_mm, low_mm, high_mm,
-                                       # band_hz: protocols.random_length)
+                                       # band_hz: protocols.random_length); or kind = "ramp": a ramp-and-hold
+                                       # stretch from mm to to_mm at velocity_mm_s, from start_ms
+                                       # (protocols.isokinetic_ramp)
     [run]
     duration_ms = 500.0
     dt_ms = 0.025
@@ -31,6 +33,9 @@
     cm = 1.0                           # uF/cm2; also ra (ohm cm), max_segment_um
     [motoneuron.mechanisms.soma.mn_soma]     # {section group: {mechanism: {parameter: value}}}
     gnaf = 0.6
+    [reflex]                           # optional: the stretch-reflex loop (pool.reflex.ReflexDefinition)
+    n_ia = 8                           # also n_ii, n_ib, xref_mm (default: length.mm), fusimotor, ia_weight_uS
+    cut_dorsal_roots = false           # (one number, or a table S/FR/FF), ia_delay_ms, ii_weight_uS, ...
 
 Drives: ``ramp`` (the recruitment ramp: the common synaptic conductance 0 -> peak_uS over the first half of the
 run, held to three quarters, back to 0: ``Drive.recruitment_ramp``), ``rise`` (0 -> peak_uS over the run),
@@ -38,6 +43,8 @@ run, held to three quarters, back to 0: ``Drive.recruitment_ramp``), ``rise`` (0
 0 -> peak_nA over the run), ``poisson`` (rate_hz, weight_uS, seed).  The defaults are the human pool of
 networks/human_pool.py: 70/20/10 % S/FR/FF, a 100-fold P0 range summing to 600 N, 900 mm axons, the
 neuromodulation of human voluntary contractions.  A missing field takes its default; an unknown one is an error.
+The [reflex] section is optional: without it no afferents are built; with it, each field missing takes the
+ReflexDefinition default, and the spindles measure stretch from the length's starting value unless xref_mm is set.
 Units: ms, mm, N, uS, nA, Hz.
 """
 
@@ -50,14 +57,15 @@ from typing import Any, Callable, Mapping
 
 from ..errors import InputError
 from ..parameters import builtin_sets, load_parameters
-from ..protocols import LengthTrace, random_length
+from ..protocols import LengthTrace, isokinetic_ramp, random_length
 from ..sim import Simulator
 from ..sim.simulator import ENGINES
 from .cells import CellFactory, reconstructed_cells
 from .definition import MUSCLE_MODELS, PoolDefinition
 from .drives import Drive
 from .experiments import total_force_smallest_p0_N
-from .motoneuron import CHANNELS, HUMAN_NEUROMODULATION
+from .motoneuron import CHANNELS, HUMAN_NEUROMODULATION, TYPES
+from .reflex import ReflexDefinition
 
 #: Every section of a definition file, its fields and their defaults (None: no default, optional).
 FIELDS: dict[str, dict[str, Any]] = {
@@ -67,15 +75,19 @@ FIELDS: dict[str, dict[str, Any]] = {
     "drive": {"kind": "ramp", "peak_uS": 0.6, "peak_nA": 40.0, "times_ms": None, "values_uS": None,
               "values_nA": None, "rate_hz": 400.0, "weight_uS": 0.15, "seed": 0},
     "length": {"kind": "isometric", "mm": -8.0, "seed": 0, "centre_mm": -8.0, "low_mm": -16.0, "high_mm": 0.0,
-               "band_hz": 5.0},
+               "band_hz": 5.0, "to_mm": -4.0, "velocity_mm_s": 30.0, "start_ms": 300.0},
     "run": {"duration_ms": 500.0, "dt_ms": 0.025, "record_dt_ms": 1.0, "method": "fixed", "engine": "neuron"},
     "record": {"variables": None, "units": None},
     "motoneuron": {"swc": None, "mechanisms": None, "cm": 1.0, "ra": 70.0, "max_segment_um": 100.0},
+    "reflex": {**{k: v for k, v in ReflexDefinition().__dict__.items() if k != "ia_weight_uS"},
+               "xref_mm": None, "ia_weight_uS": dict(ReflexDefinition().ia_weight_uS)},
 }
+#: Sections left out of a document that does not give them (their absence means: not built).
+OPTIONAL_SECTIONS = ("reflex",)
 #: Top-level fields besides the sections.
 TOP_FIELDS = {"name": "pool"}
 DRIVES = ("ramp", "rise", "synaptic", "current", "poisson")
-LENGTHS = ("isometric", "random")
+LENGTHS = ("isometric", "random", "ramp")
 
 
 @dataclass(frozen=True)
@@ -92,6 +104,7 @@ class PoolSetup:
     recordings: tuple[tuple[str, ...], tuple[int, ...] | None] | None
     document: dict[str, Any] = field(default_factory=dict)
     cells: CellFactory | None = None
+    reflex: ReflexDefinition | None = None
 
 
 def read_document(path: str | Path) -> dict[str, Any]:
@@ -144,6 +157,8 @@ def complete(doc: Mapping[str, Any], source: str) -> dict[str, Any]:
         elif not isinstance(value, Mapping):
             raise InputError(f"{source}: [{key}] must be a section (a mapping of fields), got {value!r}")
     for section, defaults in FIELDS.items():
+        if section in OPTIONAL_SECTIONS and section not in doc:
+            continue
         given = dict(doc.get(section, {}))
         unknown = sorted(set(given) - set(defaults))
         if unknown:
@@ -266,8 +281,15 @@ def _drive(f: _Fields, duration_ms: float) -> Drive:
 
 
 def _length(f: _Fields, duration_ms: float) -> LengthTrace | float:
-    if f.choice("length.kind", LENGTHS) == "isometric":
+    kind = f.choice("length.kind", LENGTHS)
+    if kind == "isometric":
         return f.number("length.mm")
+    if kind == "ramp":
+        try:
+            return isokinetic_ramp(f.number("length.mm"), f.number("length.to_mm"), f.positive("length.velocity_mm_s"),
+                                   f.number("length.start_ms", lambda x: x >= 0, ">= 0"), duration_ms)
+        except InputError as exc:
+            raise InputError(f"{f.source}: [length]: {exc}") from None
     try:
         return random_length(duration_ms, seed=f.integer("length.seed", 0), centre_mm=f.number("length.centre_mm"),
                              low_mm=f.number("length.low_mm"), high_mm=f.number("length.high_mm"),
@@ -314,6 +336,48 @@ def _cells(f: _Fields) -> CellFactory | None:
         raise InputError(f"{f.source}: [motoneuron]: {exc}") from None
 
 
+def _reflex(f: _Fields) -> ReflexDefinition | None:
+    if "reflex" not in f.doc:
+        return None
+    fields: dict[str, Any] = {}
+    for name in ("n_ia", "n_ii", "n_ib"):
+        fields[name] = f.integer(f"reflex.{name}", 0)
+    if f.raw("reflex.xref_mm") is None:
+        fields["xref_mm"] = f.number("length.mm")
+    else:
+        fields["xref_mm"] = f.number("reflex.xref_mm")
+    fields["fusimotor"] = f.number("reflex.fusimotor", lambda x: x >= 0, ">= 0 (% of maximal activation)")
+    weights = f.raw("reflex.ia_weight_uS")
+    if isinstance(weights, Mapping):
+        unknown = sorted(set(weights) - set(TYPES))
+        if unknown or set(weights) != set(TYPES):
+            raise InputError(f"{f.where('reflex.ia_weight_uS')} needs one weight (uS) for each motoneuron type "
+                             f"{', '.join(TYPES)}, got {dict(weights)!r}")
+        fields["ia_weight_uS"] = {t: _weight(f, t, weights[t]) for t in TYPES}
+    else:
+        w = f.number("reflex.ia_weight_uS", lambda x: x >= 0, ">= 0 (uS), or a table of S, FR, FF weights")
+        fields["ia_weight_uS"] = {t: w for t in TYPES}
+    for name in ("ii_weight_uS", "ib_weight_uS", "interneuron_weight"):
+        fields[name] = f.number(f"reflex.{name}", lambda x: x >= 0, ">= 0")
+    for name in ("ia_delay_ms", "ia_tau_ms", "ii_delay_ms", "ib_delay_ms", "ib_tau_ms", "interneuron_tau_ms"):
+        fields[name] = f.positive(f"reflex.{name}")
+    cut = f.raw("reflex.cut_dorsal_roots")
+    if not isinstance(cut, bool):
+        raise InputError(f"{f.where('reflex.cut_dorsal_roots')} must be true or false, got {cut!r}")
+    fields["cut_dorsal_roots"] = cut
+    try:
+        return ReflexDefinition(**fields)
+    except InputError as exc:
+        raise InputError(f"{f.source}: [reflex]: {exc}") from None
+
+
+def _weight(f: _Fields, unit_type: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not value >= 0 or value == float("inf"):
+        raise InputError(f"{f.where('reflex.ia_weight_uS')}.{unit_type} must be a finite number >= 0 (uS), got "
+                         f"{value!r}")
+    return float(value)
+
+
 def pool_setup(doc: Mapping[str, Any], source: str, flagged: Mapping[str, str] | None = None,
                base_dir: str | Path | None = None) -> PoolSetup:
     """Check ``doc`` (the definition file's mapping, flags merged in) and build the run's pieces; every
@@ -343,4 +407,4 @@ def pool_setup(doc: Mapping[str, Any], source: str, flagged: Mapping[str, str] |
     except InputError as exc:
         raise InputError(f"{source}: [run]: {exc}") from None
     return PoolSetup(definition, _drive(f, duration), _length(f, duration), sim, duration, record_dt,
-                     _recordings(f, definition.n_units), full, _cells(f))
+                     _recordings(f, definition.n_units), full, _cells(f), _reflex(f))

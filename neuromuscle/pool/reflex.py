@@ -17,7 +17,12 @@ Pathways: every Ia afferent excites every motoneuron monosynaptically (an excita
 reversal 0 mV; peak conductance by motoneuron type, ``ia_weight_uS``) after ``ia_delay_ms`` (conduction and
 synapse); every Ib afferent drives its own inhibitory interneuron (IbInterneuron, a leaky integrate-and-fire
 cell on the afferent's rank), whose spikes inhibit every motoneuron (reversal -75 mV, ``ib_weight_uS``) after
-``ib_delay_ms``: the disynaptic autogenetic inhibition.  Group II afferents fire but make no connection here.
+``ib_delay_ms``: the disynaptic autogenetic inhibition.  Every group II afferent excites every motoneuron through
+the Ia synapse (``ii_weight_uS``) after ``ii_delay_ms``, 2 ms beyond the Ia delay: in the cat, group II excitation
+of homonymous extensor motoneurons is mostly di- or oligosynaptic, and the spinal circuit model of Moraud et al.
+(2016, Neuron 89:814-828) relays it through excitatory interneurons whose total drive to a motoneuron is a third of
+the Ia drive, 2 ms later; here one synapse with the longer delay stands for the relay, and the default weight is
+a third of the default Ia weight.  ``ii_weight_uS=0`` leaves group II unconnected.
 ``cut_dorsal_roots=True`` builds the afferents (they fire and are recorded) and no connection: the loop is open.
 
 Units: ms, uS, mV, mm, mm/s, N, /s (Hz).
@@ -52,8 +57,9 @@ class ReflexDefinition:
     """The afferents and their pathways (module docstring).  Counts per kind; ``xref_mm`` (mm): the length the
     spindles' stretch is measured from; ``fusimotor`` (1, % of maximal activation): the EMG-like fusimotor term;
     weights (uS) are peak synaptic conductances of one afferent's (or interneuron's) spike, decaying with
-    ``ia_tau_ms`` / ``ib_tau_ms`` (ms); delays (ms) include conduction and synapse; ``interneuron_weight``
-    (1): an Ib spike's kick to its IbInterneuron (tau ``interneuron_tau_ms``; it fires at 1)."""
+    ``ia_tau_ms`` / ``ib_tau_ms`` (ms; group II shares the Ia synapse); delays (ms) include conduction and synapse
+    (group II: the relay's too); ``ii_weight_uS=0`` leaves group II unconnected; ``interneuron_weight`` (1): an Ib
+    spike's kick to its IbInterneuron (tau ``interneuron_tau_ms``; it fires at 1)."""
 
     n_ia: int = 8
     n_ii: int = 0
@@ -63,6 +69,8 @@ class ReflexDefinition:
     ia_weight_uS: Mapping[str, float] = field(default_factory=_default_ia_weights)
     ia_delay_ms: float = 4.0
     ia_tau_ms: float = 2.0
+    ii_weight_uS: float = 0.004 / 3.0
+    ii_delay_ms: float = 6.0
     ib_weight_uS: float = 0.004
     ib_delay_ms: float = 5.0
     ib_tau_ms: float = 5.0
@@ -83,9 +91,10 @@ class ReflexDefinition:
                              f"{dict(self.ia_weight_uS)}")
         for t, w in self.ia_weight_uS.items():
             nonnegative_number(f"reflex ia_weight_uS[{t!r}] (uS)", w)
+        nonnegative_number("reflex ii_weight_uS (uS)", self.ii_weight_uS)
         nonnegative_number("reflex ib_weight_uS (uS)", self.ib_weight_uS)
         nonnegative_number("reflex interneuron_weight", self.interneuron_weight)
-        for name in ("ia_delay_ms", "ib_delay_ms", "ia_tau_ms", "ib_tau_ms", "interneuron_tau_ms"):
+        for name in ("ia_delay_ms", "ii_delay_ms", "ib_delay_ms", "ia_tau_ms", "ib_tau_ms", "interneuron_tau_ms"):
             positive_number(f"reflex {name} (ms)", getattr(self, name))
 
     def count(self, kind: str) -> int:
@@ -184,6 +193,10 @@ class Reflex:
             for src in self.gids["Ia"]:
                 nc = pc.gid_connect(src, exc)
                 nc.delay, nc.weight[0] = d.ia_delay_ms, float(d.ia_weight_uS[spec.unit_type])
+                self._keep.append(nc)
+            for src in self.gids["II"] if d.ii_weight_uS > 0 else ():
+                nc = pc.gid_connect(src, exc)
+                nc.delay, nc.weight[0] = d.ii_delay_ms, d.ii_weight_uS
                 self._keep.append(nc)
             for src in self.interneuron_gids:
                 nc = pc.gid_connect(src, inh)

@@ -153,15 +153,19 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
 
 def run_definition(definition: Any, drive: Any, sim: Any, duration_ms: float, nhost: int = 1, *,
                    length: Any = -8.0, record_dt_ms: float = 1.0, recordings: tuple[Any, Any] | None = None,
-                   progress: Callable[[float], None] | None = None, cells: Any = None) -> tuple[Any, dict[str, Any]]:
+                   progress: Callable[[float], None] | None = None, cells: Any = None,
+                   reflex: Any = None) -> tuple[Any, dict[str, Any]]:
     """Build the pool of ``definition`` on this rank, give it ``drive`` (a pool.drives.Drive), record
     ``recordings`` ((variable names, unit indices): ``Pool.record``), run it for ``duration_ms`` (ms) with the
     Simulator ``sim`` and gather the PoolResult on every rank; ``progress(t_ms)`` is called as the run advances
-    (fixed step); ``cells``: the motoneurons' factory (``pool.cells``; None: the reduced cells).  Returns the
-    result and the timing report (module docstring; units s, ms, MiB, N, Hz)."""
+    (fixed step); ``cells``: the motoneurons' factory (``pool.cells``; None: the reduced cells); ``reflex``: a
+    ReflexDefinition whose afferents are attached before the drive (None: none), their spike counts and mean
+    rates (Hz) by kind reported as ``afferents``.  Returns the result and the timing report (module docstring;
+    units s, ms, MiB, N, Hz)."""
     from ..errors import InputError
     from ..model.mechanisms import coreneuron_library, load_mechanisms
     from .pool import Pool, parallel_context
+    from .reflex import attach_reflex
 
     if nhost > definition.n_units:
         raise InputError(f"{nhost} MPI ranks for a pool of {definition.n_units} units: use at most one rank per unit")
@@ -173,12 +177,20 @@ def run_definition(definition: Any, drive: Any, sim: Any, duration_ms: float, nh
     pc.barrier()
     startup = time.perf_counter() - _START
     t0 = time.perf_counter()
+    afferents = None
     with Pool(definition, length=length, per_unit_section=sim.local_dt, engine=sim.engine, cells=cells) as pool:
+        loop = attach_reflex(pool, reflex) if reflex is not None else None
         drive.apply(pool)
         if recordings is not None:
             pool.record(*recordings)
         build = max(pc.py_allgather(time.perf_counter() - t0))
         result = pool.run(duration_ms, sim, record_dt_ms=record_dt_ms, progress=progress)
+        if loop is not None:
+            trains = loop.spikes()
+            afferents = {kind: {"afferents": len(s), "spikes": int(sum(x.size for x in s)),
+                                "mean_rate_hz": round(float(sum(x.size for x in s)) / len(s) * 1000.0 / duration_ms, 2)
+                                if s else 0.0} for kind, s in trains.items()}
+            loop.destroy()
     wall = time.perf_counter() - t0
     rss = [float(x) for x in pc.py_allgather(peak_rss_mib())]
     n = definition.n_units
@@ -192,6 +204,8 @@ def run_definition(definition: Any, drive: Any, sim: Any, duration_ms: float, nh
               "s_per_unit_s": result.wall_s / unit_s, "spikes": spikes, "mean_rate_hz": spikes / unit_s,
               "peak_rss_mib": max(rss), "peak_rss_mib_per_rank": rss,
               "pool_force_peak_N": float(result.pool_force_N.max())}
+    if afferents is not None:
+        report["afferents"] = afferents
     return result, report
 
 

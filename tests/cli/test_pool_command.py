@@ -103,6 +103,72 @@ def test_the_shipped_example_definition_runs(tmp_path, capsys):
     assert full["recruited"] >= 5
 
 
+REFLEX_TOML = """
+[units]
+count = 3
+types = [1.0, 0.0, 0.0]
+smallest_p0_N = 1.0
+p0_range = 3.0
+axon_length_mm = 150.0
+neuromodulation = 1.0
+[drive]
+kind = "synaptic"
+times_ms = [0.0, 700.0]
+values_uS = [0.003, 0.003]
+[length]
+kind = "ramp"
+mm = -10.0
+to_mm = -4.0
+velocity_mm_s = 30.0
+start_ms = 100.0
+[run]
+duration_ms = 700.0
+[reflex]
+n_ia = 6
+n_ii = 2
+n_ib = 2
+ia_weight_uS = 0.008
+"""
+
+
+def test_a_reflex_section_runs_the_stretch_reflex_and_cut_roots_open_it(tmp_path, capsys):
+    """The [reflex] table with a ramp-and-hold length: the afferents fire at their equations' rates, the loop
+    raises the discharge over cut dorsal roots, and the afferents' counts reach the summary and the provenance."""
+    summaries, results = {}, {}
+    for cut in (False, True):
+        path = tmp_path / f"cut{cut}.toml"
+        path.write_text(REFLEX_TOML + f"cut_dorsal_roots = {str(cut).lower()}\n")
+        out = tmp_path / f"run{cut}"
+        assert main(["pool", str(path), "--out", str(out)]) == 0
+        captured = capsys.readouterr()
+        assert "stretch reflex (6 Ia, 2 II, 2 Ib" in captured.err
+        summaries[cut] = json.loads(captured.out.strip().splitlines()[-1])
+        results[cut] = load_pool_result(out / "pool.h5")
+    intact, cut = summaries[False], summaries[True]
+    # the spindles read the same stretch either way; Ia: 82 /s at rest, 4.3 v^0.6 + 2 d above it
+    assert intact["afferents"]["Ia"] == cut["afferents"]["Ia"] and intact["afferents"]["Ia"]["afferents"] == 6
+    assert 90.0 < intact["afferents"]["Ia"]["mean_rate_hz"] < 110.0
+    assert intact["spikes"] > cut["spikes"] and intact["peak_pool_force_N"] > cut["peak_pool_force_N"]
+    assert cut["afferents"]["Ib_interneurons"]["spikes"] == 0 < intact["afferents"]["Ib_interneurons"]["spikes"]
+    prov = results[False].provenance
+    assert prov["afferents"] == intact["afferents"] and prov["definition"]["reflex"]["n_ia"] == 6
+    assert prov["definition"]["length"]["kind"] == "ramp"
+
+
+def test_the_shipped_stretch_reflex_definition_runs(tmp_path, capsys):
+    assert main(["pool", str(NETWORKS / "stretch_reflex.toml"), "--units", "4",
+                 "--out", str(tmp_path), "--quiet"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["afferents"]["II"]["afferents"] == 4 and summary["afferents"]["Ib"]["spikes"] > 0
+
+
+def test_a_definition_without_a_reflex_section_builds_no_afferents(tmp_path, capsys):
+    (tmp_path / "pool.toml").write_text('[units]\ncount = 2\nsmallest_p0_N = 0.5\n[run]\nduration_ms = 50.0\n')
+    assert main(["pool", str(tmp_path / "pool.toml"), "--out", str(tmp_path / "run"), "--quiet"]) == 0
+    assert "afferents" not in json.loads(capsys.readouterr().out)
+    assert "reflex" not in load_pool_result(tmp_path / "run" / "pool.h5").provenance["definition"]
+
+
 def test_a_parameter_file_is_read_beside_the_definition(tmp_path, ct09):
     folder = tmp_path / "experiment"
     folder.mkdir()
@@ -139,6 +205,15 @@ def test_a_json_file_gives_the_same_pool_as_the_flags(tmp_path):
     ('[record]\nunits = [1]\n', "pool.toml: record.units is given without record.variables"),
     ('[muscle]\nP0 = 3\n', "pool.toml: unknown section 'muscle'"),
     ('[units\ncount = 3\n', "pool.toml: not valid TOML"),
+    ('[reflex]\nn_ia = -1\n', "pool.toml: reflex.n_ia must be an integer >= 0, got -1"),
+    ('[reflex]\nn_ia_ = 3\n', "pool.toml: [reflex] has no field 'n_ia_'"),
+    ('[reflex]\ncut_dorsal_roots = "yes"\n', "pool.toml: reflex.cut_dorsal_roots must be true or false"),
+    ('[reflex]\nia_weight_uS = {S = 0.004}\n', "pool.toml: reflex.ia_weight_uS needs one weight (uS) for each"),
+    ('[reflex]\nia_weight_uS = {S = 0.004, FR = -1, FF = 0}\n', "pool.toml: reflex.ia_weight_uS.FR must be"),
+    ('[reflex]\nii_delay_ms = 0\n', "pool.toml: reflex.ii_delay_ms must be > 0, got 0"),
+    ('[length]\nkind = "ramp"\nvelocity_mm_s = 0\n', "pool.toml: length.velocity_mm_s must be > 0"),
+    ('[length]\nkind = "ramp"\nstart_ms = 400\n', "pool.toml: [length]: duration_ms (500.0 ms) ends before"),
+    ('[length]\nkind = "stretch"\n', "pool.toml: length.kind must be one of isometric, random, ramp"),
 ])
 def test_bad_definitions_are_refused_naming_file_and_field_with_nothing_written(tmp_path, capsys, text, message):
     path = tmp_path / "pool.toml"

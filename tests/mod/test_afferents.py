@@ -1,6 +1,7 @@
-"""The afferent mechanisms (SpindleIa, SpindleII, TendonOrganIb) fire at the rates of Prochazka's equations,
-evaluated here in Python: each rate rises with what its receptor reads (stretch velocity, stretch, force), a
-shortening spindle slows, and the rate never goes below 0."""
+"""The afferent mechanisms (SpindleIa, SpindleII, TendonOrganIb) fire at the rates of their published equations,
+evaluated here in Python and checked at points worked out by hand from the published coefficients (Prochazka &
+Gorassini 1998 for Ia; Moraud et al. 2016 after Prochazka 1999 for II): each rate rises with what its receptor
+reads (stretch velocity, stretch, force), a shortening spindle slows, and the rate never goes below 0."""
 
 import numpy as np
 import pytest
@@ -11,12 +12,13 @@ DURATION_MS = 2000.0
 
 
 def _ia(v, d, fus=0.0):
-    """Prochazka & Gorassini 1998 / Prochazka 1999, Ia: v in mm/s, d in mm, fus in %."""
-    return max(0.0, 4.3 * np.sign(v) * abs(v) ** 0.6 + 2.0 * d + 0.06 * fus + 82.0)
+    """Prochazka & Gorassini 1998, Ia: v in mm/s, d in mm; fusimotor term of Moraud et al. 2016, fus in %."""
+    return max(0.0, 4.3 * np.sign(v) * abs(v) ** 0.6 + 2.0 * d + 0.5 * fus + 82.0)
 
 
 def _ii(d, fus=0.0):
-    return max(0.0, 13.5 * d + 0.02 * fus + 80.0)
+    """Moraud et al. 2016 after Prochazka 1999, II: 80 + 13.5 d + 20 EMG (d in mm, EMG 0..1; fus in %)."""
+    return max(0.0, 13.5 * d + 0.2 * fus + 80.0)
 
 
 def _ib(force_N, fmax_N):
@@ -53,6 +55,30 @@ def _rate(kind, xm=-8.0, vm=0.0, force_N=0.0, fmax_N=1.0, fus=0.0):
     return spikes.size() * 1000.0 / DURATION_MS, float(receptor.rate)
 
 
+# (mechanism, stretch d (mm), velocity v (mm/s), fusimotor drive (%), rate (/s)) from the published coefficients by
+# hand: Ia 4.3 sgn(v)|v|^0.6 + 2 d + 82 (10^0.6 = 3.98107, 100^0.6 = 15.84893, 30^0.6 = 7.69610); II 13.5 d + 80,
+# + 20 at maximal activation
+PUBLISHED_POINTS = [
+    ("SpindleIa", 0.0, 0.0, 0.0, 82.0),
+    ("SpindleIa", 0.0, 10.0, 0.0, 99.11860),
+    ("SpindleIa", 5.0, 100.0, 0.0, 160.15040),
+    ("SpindleIa", 6.0, 30.0, 0.0, 127.09339),
+    ("SpindleIa", 0.0, -10.0, 0.0, 64.88140),
+    ("SpindleIa", 0.0, 0.0, 100.0, 132.0),
+    ("SpindleII", 0.0, 0.0, 0.0, 80.0),
+    ("SpindleII", 6.0, 30.0, 0.0, 161.0),
+    ("SpindleII", 4.0, 0.0, 100.0, 154.0),
+    ("SpindleII", -2.0, 0.0, 0.0, 53.0),
+]
+
+
+@pytest.mark.parametrize("kind, d, v, fus, published", PUBLISHED_POINTS)
+def test_the_rate_is_the_published_equation_at_worked_points(kind, d, v, fus, published):
+    rate, held = _rate(kind, xm=-8.0 + d, vm=v, fus=fus)
+    assert held == pytest.approx(published, abs=1e-4)
+    assert rate == pytest.approx(published, abs=1.0 / (DURATION_MS / 1000.0))
+
+
 @pytest.mark.parametrize("v", [0.0, 5.0, 20.0, 80.0, -10.0])
 @pytest.mark.parametrize("d", [0.0, 4.0])
 def test_ia_rate_is_the_equation(v, d):
@@ -70,7 +96,8 @@ def test_ia_rate_rises_with_velocity_and_stretch_and_fusimotor_drive():
 
 @pytest.mark.parametrize("d", [-2.0, 0.0, 3.0, 8.0])
 def test_ii_rate_is_the_equation_and_ignores_velocity(d):
-    rate, _ = _rate("SpindleII", xm=-8.0 + d, vm=50.0)
+    rate, held = _rate("SpindleII", xm=-8.0 + d, vm=50.0)
+    assert held == pytest.approx(_ii(d), rel=1e-12)
     assert rate == pytest.approx(_ii(d), abs=0.5)
 
 

@@ -12,7 +12,8 @@ NETWORKS = Path(__file__).resolve().parents[2] / "networks"
 #: Scripts with another interface (--out FILE.h5 or --out DIR), each run by its own tests: the data conversions
 #: (tests/diagnose/test_real_data.py) and the pool networks (tests/pool/test_networks.py).
 NOT_EXAMPLES = ("herzog_leonard_to_measured.py", "herzog_leonard_diagnosis.py", "cat_soleus_pool.py",
-                "human_pool.py", "recorded_discharges.py", "pool_vs_recorded.py", "stretch_reflex.py")
+                "human_pool.py", "recorded_discharges.py", "pool_vs_recorded.py", "stretch_reflex.py",
+                "reconstructed_pool.py")
 
 
 @pytest.mark.parametrize("script", sorted(p.name for p in NETWORKS.glob("*.py") if p.name not in NOT_EXAMPLES))

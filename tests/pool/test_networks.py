@@ -1,6 +1,7 @@
 """The example networks run their small defaults from a temporary folder and write their outputs."""
 
 import importlib.util
+import json
 import sys
 from pathlib import Path
 
@@ -46,6 +47,19 @@ def test_human_pool_default(tmp_path):
     assert (tmp_path / "out" / "human_summary.png").stat().st_size > 10_000
     with pytest.raises(Exception, match="already holds"):
         _script("human_pool").main(["--out", str(tmp_path / "out")])  # no silent overwrite
+
+
+def test_reconstructed_pool_prints_its_figures(tmp_path, capsys):
+    """The pool of reconstructed_pool.toml, shortened: every unit recruited by the ramp, the figures printed as
+    JSON and written beside the result and its figure."""
+    s = _script("reconstructed_pool").main(["--out", str(tmp_path / "out"), "--units", "3", "--duration-ms", "400"])
+    assert json.loads(capsys.readouterr().out.strip().splitlines()[-1]) == s
+    assert json.loads((tmp_path / "out" / "reconstructed_pool.json").read_text()) == s
+    assert s["units"] == 3 and s["recruited"] == 3 and s["peak_pool_force_N"] > 0.0
+    assert s["unit0_v_range_mV"][1] > 0.0 and s["unit0_v_dend_range_mV"][1] > s["unit0_v_dend_range_mV"][0]
+    r = load_pool_result(tmp_path / "out" / "pool.h5")
+    assert r.provenance["definition"]["motoneuron"]["swc"].endswith("small_motoneuron.swc")
+    assert (tmp_path / "out" / "reconstructed_pool.png").stat().st_size > 10_000
 
 
 @pytest.mark.skipif(not CAILLET.is_dir(), reason=f"Caillet real-data folder {CAILLET} is absent")

@@ -58,6 +58,18 @@ def test_ib_inhibition_lowers_the_discharge():
     assert sum(s.size for s in inhibited.spikes_ms) < sum(s.size for s in excite_only.spikes_ms)
 
 
+def test_group_ii_excitation_raises_the_discharge_and_weight_0_leaves_it_unconnected():
+    """Group II afferents with weight 0 change nothing (bit for bit against no group II afferents); with a weight,
+    after their longer delay, they raise the discharge."""
+    none, _ = _run(ReflexDefinition(n_ia=6, n_ii=0, n_ib=2, xref_mm=-10.0))
+    off, aff = _run(ReflexDefinition(n_ia=6, n_ii=4, n_ib=2, xref_mm=-10.0, ii_weight_uS=0.0))
+    on, _ = _run(ReflexDefinition(n_ia=6, n_ii=4, n_ib=2, xref_mm=-10.0, ii_weight_uS=0.004))
+    assert sum(s.size for s in aff["II"]) > 4 * 0.7 * 80
+    assert all(np.array_equal(a, b) for a, b in zip(none.spikes_ms, off.spikes_ms))
+    np.testing.assert_array_equal(none.unit_force_N, off.unit_force_N)
+    assert sum(s.size for s in on.spikes_ms) > sum(s.size for s in off.spikes_ms) + 5
+
+
 def test_ia_weights_go_by_motoneuron_type():
     """The test pool is all type S: Ia weights on FR and FF alone change nothing, on S they raise the discharge."""
     cut, _ = _run(ReflexDefinition(n_ia=6, n_ib=0, xref_mm=-10.0, cut_dorsal_roots=True))
@@ -97,6 +109,8 @@ def test_coreneuron_gives_neurons_reflex_bit_for_bit():
     ({"ia_weight_uS": {"S": 0.01}}, "one weight for each motoneuron type"),
     ({"ia_delay_ms": 0.0}, "ia_delay_ms"),
     ({"fusimotor": -5.0}, "fusimotor"),
+    ({"ii_weight_uS": -0.001}, "ii_weight_uS"),
+    ({"ii_delay_ms": 0.0}, "ii_delay_ms"),
 ])
 def test_bad_definitions_are_refused(kwargs, message):
     with pytest.raises(InputError, match=message):
@@ -140,6 +154,14 @@ def test_the_example_compares_intact_and_cut_and_its_rates_follow_the_equations(
     ia = s["afferent_rate_hz"]["Ia"]
     assert ia["ramp"] > ia["hold"] > ia["rest"]        # velocity, then length
     assert s["afferent_rate_hz"]["Ib"]["hold"] > s["afferent_rate_hz"]["Ib"]["rest"]
+    # the figures set beside the recorded ones: Ia's dynamic index is the velocity term at 30 mm/s, the hold's
+    # rate per mm the stretch coefficients; group II has no dynamic index
+    fig = s["afferent_figures"]
+    assert fig["Ia"]["dynamic_index_hz"] == pytest.approx(4.3 * 30.0 ** 0.6, abs=3.0)
+    assert fig["Ia"]["hold_per_mm_hz"] == pytest.approx(2.0, abs=0.3)
+    assert fig["II"]["hold_per_mm_hz"] == pytest.approx(13.5, abs=0.5)
+    assert abs(fig["II"]["dynamic_index_hz"]) < 5.0
+    assert all(p["source"] and p["published"] for p in s["published"])
 
 
 @pytest.mark.skipif(not mpi_available(), reason="the mpi extra is not installed")
