@@ -194,6 +194,7 @@ def _evidence_row(ev: Evidence) -> dict[str, Any]:
             "excess_removed": round(ev.excess_removed, 3),
             "share_of_baseline_excess": None if share is None else round(share, 3),
             "window": ev.window_how, "window_chi2_gain": None if window is None else round(window, 1),
+            "quiet_chi2_gain": None if ev.quiet_chi2_gain is None else round(ev.quiet_chi2_gain, 1),
             "structured_before": len(ev.structured_before), "failed": sorted(ev.failed)}
 
 

@@ -11,8 +11,10 @@ s_k and rho_k its AR(1) noise (:func:`.residuals.noise_level`), n_k samples, n_e
   per-sample gains (e0^2 - e1^2)/s_k^2 within each trial (blocks of max(4 (1 + rho)/(1 - rho), n/25) samples);
 * **excess**: the held-out error above noise, sum_k max(SSE0_k - n_k s_k^2, 0)/s_k^2, and the share of it the
   candidate removes;
-* the same gain, penalty and bootstrap over the **window** where the cause is defined (:mod:`.causes`), each model's
-  residual there measured from its own level (the isometric misfit at a hold's length, 0 elsewhere);
+* the same gain, penalty and bootstrap over the **window** where the cause is judged (:mod:`.causes`,
+  :mod:`.selection`), each model's residual there measured from its own level (the isometric misfit at a hold's
+  length, 0 elsewhere); when it is judged where its extension acts because the model before already fits its
+  telling trials to noise, the gain and penalty on those **quiet** telling trials too;
 * the **calibration** chi-square gain of the candidate's fit over the model before it and its BIC penalty (both
   fitted on that chi-square, so this is a likelihood ratio).
 
@@ -72,6 +74,9 @@ class Evidence:
     window_trials: dict[str, dict[str, Any]] = field(default_factory=dict)
     rest_left: list[str] = field(default_factory=list)
     n_rest: int = 0
+    quiet_chi2_gain: float | None = None
+    quiet_penalty: float | None = None
+    quiet_trials: tuple[str, ...] = ()
     baseline_excess: float | None = None
     after_others: bool = False
     failed: dict[str, str] = field(default_factory=dict)
@@ -121,6 +126,8 @@ class Evidence:
                 "calibration_bic_penalty": self.calibration_penalty, "window": self.window_how,
                 "window_chi2_gain": self.window_chi2_gain, "window_bic_penalty": self.window_penalty,
                 "window_bootstrap_p05": self.window_p05, "window_trials": self.window_trials,
+                "quiet_telling_trials": list(self.quiet_trials), "quiet_chi2_gain": self.quiet_chi2_gain,
+                "quiet_bic_penalty": self.quiet_penalty,
                 "rest_trend_trials": self.rest_left, "trials_with_rest": self.n_rest, "score": self.score,
                 "baseline_excess": self.baseline_excess, "share_of_baseline_excess": self.share_of_baseline_excess,
                 "passed": self.passed, "failed": self.failed}
@@ -164,12 +171,49 @@ def structured_trials(measured: Mapping[str, np.ndarray], simulated: Mapping[str
     return out
 
 
+def window_residuals(h: WindowSamples, measured: np.ndarray, simulated: np.ndarray, before: bool = True
+                     ) -> np.ndarray:
+    """One model's residual (N) on a window's samples, measured from that model's level there (``before``: the
+    model before's level, else the candidate's)."""
+    return (simulated - measured)[h.mask] - (h.level_before_N if before else h.level_after_N)
+
+
+def quiet_window(window: Mapping[str, WindowSamples], measured: Mapping[str, np.ndarray],
+                 before: Mapping[str, np.ndarray], noise: Mapping[str, Noise], ratio: float = STRUCTURE_RATIO
+                 ) -> bool:
+    """Whether the model before fits every trial of ``window`` to its noise there: residual RMS (from its level)
+    at most ``ratio`` noise sd in each.  Such a window has nothing a cause could show."""
+    for i, h in window.items():
+        e = window_residuals(h, measured[i], before[i])
+        if e.size and math.sqrt(float(e @ e) / e.size) > ratio * noise[i].sd_N:
+            return False
+    return True
+
+
+def window_gain(window: Mapping[str, WindowSamples], measured: Mapping[str, np.ndarray],
+                before: Mapping[str, np.ndarray], after: Mapping[str, np.ndarray], noise: Mapping[str, Noise],
+                n_parameters: int) -> tuple[float, float]:
+    """The autocorrelation-corrected chi-square gain of the candidate over the model before on ``window`` and its
+    BIC penalty (noise variances)."""
+    gain = n_eff = 0.0
+    for i, h in window.items():
+        nz = noise[i]
+        e0 = window_residuals(h, measured[i], before[i])
+        e1 = window_residuals(h, measured[i], after[i], before=False)
+        w = (1 - nz.rho) / (1 + nz.rho)
+        gain += float(e0 @ e0 - e1 @ e1) / nz.sd_N ** 2 * w
+        n_eff += e0.size * w
+    return gain, n_parameters * math.log(max(n_eff, 2.0))
+
+
 def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: Mapping[str, np.ndarray],
            after: Mapping[str, np.ndarray], noise: Mapping[str, Noise], n_parameters: int, identified: list[str],
-           calibration: tuple[float, float], window: Mapping[str, WindowSamples] | None, seed: int = 0) -> Evidence:
+           calibration: tuple[float, float], window: Mapping[str, WindowSamples] | None, seed: int = 0,
+           quiet: Mapping[str, WindowSamples] | None = None) -> Evidence:
     """The evidence of a candidate whose model gives ``after`` against the model before it (``before``), forces in
     N by trial id, on the ``heldout`` trials; calibration: (chi-square gain, BIC penalty) of its fit; window: the
-    held-out samples where the cause is judged (None: no such samples)."""
+    held-out samples where the cause is judged (None: no such samples); quiet: its telling trials' window when the
+    model before fits them to noise and the cause is judged where it acts instead (None otherwise)."""
     gain = chi2 = excess = n_eff = 0.0
     per_sample, nr0, nr1 = [], [], []
     for i in heldout:
@@ -190,6 +234,9 @@ def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: M
                   structured_trials(measured, before, noise, heldout), identified, *calibration)
     if window:
         _window(ev, window, measured, before, after, noise, seed)
+    if quiet:
+        ev.quiet_chi2_gain, ev.quiet_penalty = window_gain(quiet, measured, before, after, noise, n_parameters)
+        ev.quiet_trials = tuple(quiet)
     return ev
 
 
@@ -201,8 +248,8 @@ def _window(ev: Evidence, window: Mapping[str, WindowSamples], measured: Mapping
         if not np.any(h.mask):
             continue
         nz = noise[i]
-        e0 = (before[i] - measured[i])[h.mask] - h.level_before_N
-        e1 = (after[i] - measured[i])[h.mask] - h.level_after_N
+        e0 = window_residuals(h, measured[i], before[i])
+        e1 = window_residuals(h, measured[i], after[i], before=False)
         d = (e0 ** 2 - e1 ** 2) / nz.sd_N ** 2
         n = int(h.mask.sum())
         g = float(d.sum()) * (1 - nz.rho) / (1 + nz.rho)

@@ -100,6 +100,15 @@ def _nothing_at_rest(e: Evidence) -> str | None:
 def _where_it_acts(e: Evidence) -> str | None:
     if e.window_chi2_gain is None:
         return "no held-out sample where the cause is defined or where its extension changes the force"
+    if e.quiet_chi2_gain is not None:
+        trials = ", ".join(e.quiet_trials)
+        if e.excess_removed <= MIN_EXCESS_REMOVED_DIFFUSE:
+            return (f"the model before fits its telling trials ({trials}) to noise, so it is judged where it acts, "
+                    f"and there it must remove more than {100 * MIN_EXCESS_REMOVED_DIFFUSE:.0f} % of the held-out "
+                    f"error above noise: {100 * e.excess_removed:.0f} %")
+        if e.quiet_chi2_gain < -e.quiet_penalty:
+            return (f"fits its telling trials ({trials}) worse than the model before, which fits them to noise: chi2 "
+                    f"gain {e.quiet_chi2_gain:.1f} < -{e.quiet_penalty:.1f}")
     if e.window_chi2_gain > e.window_penalty and e.window_p05 > 0:
         return None
     where = "defined" if e.window_how == "defined" else "acting"
@@ -140,7 +149,11 @@ RULES: tuple[Rule, ...] = (
          "on the held-out samples where the cause is defined (its telling trials; for force enhancement and "
          "depression, the holds after the movement measured from the isometric force at that length) or, when no "
          "held-out trial is of that kind, where its fitted extension changes the force by more than half a noise "
-         "sd, the chi-square gain exceeds the BIC penalty there and its bootstrap 5th percentile is above 0",
+         "sd, the chi-square gain exceeds the BIC penalty there and its bootstrap 5th percentile is above 0.  When "
+         f"the model before fits every held-out telling trial to {STRUCTURE_RATIO:g} noise sd (they cannot show the "
+         "cause), it is judged where its extension acts, and must also remove more than "
+         f"{100 * MIN_EXCESS_REMOVED_DIFFUSE:.0f} % of the held-out error above noise (as R0 asks of a diffuse "
+         "gain) and not fit the telling trials worse by more than the BIC penalty",
          _where_it_acts),
     Rule("R8", "material against the baseline",
          f"a cause named after others removes at least {100 * MIN_BASELINE_SHARE:.0f} % of the baseline's held-out "

@@ -16,11 +16,13 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    parameters it interacts with free (:func:`refitted`), from M and from M with those baseline parameters put back
    at the base set's values;
 4. **evidence** (:mod:`.evidence`) on the held-out trials against M, and the rules (:mod:`.rules`).  Where the
-   cause is judged (R7): its telling held-out trials, or, when no held-out trial is of its kind (a file with a
-   single stretch-hold or a single post-tetanic series), the held-out samples where its fitted extension changes
-   the force by more than ``ACTS_SD`` noise sd.  There, a cause defined after a movement is measured from the
-   isometric force at the hold's length, and one that acts through the movement from the isometric misfit at
-   every sample's length (:func:`.causes.isometric_level`);
+   cause is judged (R7): its telling held-out trials, or the held-out samples where its fitted extension changes
+   the force by more than ``ACTS_SD`` noise sd when no held-out trial is of its kind (a file with a single
+   stretch-hold or a single post-tetanic series) or when the model before already fits every held-out telling
+   trial to its noise there (a model that bent its other parameters to absorb the cause on those trials: they
+   cannot show it, and rule R7 then also asks the candidate not to fit them worse).  There, a cause defined
+   after a movement is measured from the isometric force at the hold's length, and one that acts through the
+   movement from the isometric misfit at every sample's length (:func:`.causes.isometric_level`);
 5. the passing candidate with the best whole-file score is named; its model, refitted in every free parameter
    (:func:`consolidate`), becomes M;
 6. **two at once** (:func:`joint`), when no candidate passes but one is beyond noise and material alone (rules
@@ -50,7 +52,7 @@ from ..model.extensions import LENGTH_PARAMETERS
 from ..parameters import ParameterSet
 from .baseline import FORCE_PARAMETERS
 from .causes import causes, isometric_level, telling_trials, where_defined
-from .evidence import Evidence, WindowSamples, excess, gather
+from .evidence import Evidence, WindowSamples, excess, gather, quiet_window
 from .models import (CANDIDATE_TOLERANCE, MODEL_MAX_ITERATIONS, OPTIONS, FittedModel, extension_class,
                      extension_defaults, fit_model, simulate_all)
 from .phases import TrialPhases
@@ -226,8 +228,9 @@ def _identified(model: FittedModel, name: str) -> list[str]:
 
 
 def _windows(ctx: Context, name: str, before: FittedModel, model: FittedModel,
-             telling_heldout: Sequence[str]) -> dict[str, WindowSamples]:
-    """Rule R7's held-out samples of cause ``name`` (module docstring, step 4)."""
+             telling_heldout: Sequence[str]) -> tuple[dict[str, WindowSamples], dict[str, WindowSamples] | None]:
+    """Rule R7's held-out samples of cause ``name`` (module docstring, step 4), and its telling trials' samples
+    when they are quiet under the model before and the cause is judged where it acts instead (else None)."""
     ext = extension_class(name)
     g1 = float(before.parameters["g1"])
     measured = ctx.measured
@@ -244,8 +247,9 @@ def _windows(ctx: Context, name: str, before: FittedModel, model: FittedModel,
             lb = w.level(ctx.phases, {j: before.simulated[j] - measured[j] for j in w.references})
             la = w.level(ctx.phases, {j: model.simulated[j] - measured[j] for j in w.references})
         out[i] = WindowSamples(w.mask, "defined", w.references, lb, la)
-    if out:
-        return out
+    if out and not quiet_window(out, measured, before.simulated, ctx.noise):
+        return out, None
+    defined, out = out, {}
     neutral = {ext.qualified(p.name): p.neutral for p in ext.parameters if p.neutral is not None}
     held = [ctx.data.trials[i] for i in ctx.heldout]
     off = simulate_all(model.parameters.with_values(neutral), held, model.extensions, pool=ctx.pool)
@@ -253,7 +257,9 @@ def _windows(ctx: Context, name: str, before: FittedModel, model: FittedModel,
         mask = np.abs(model.simulated[i] - off[i]) > ACTS_SD * ctx.noise[i].sd_N
         if mask.any():
             out[i] = WindowSamples(mask, "acts")
-    return out
+    if not out:
+        return defined, None
+    return out, defined or None
 
 
 def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
@@ -262,8 +268,9 @@ def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
     n_par = len(extension_class(name).parameters)
     n_eff_cal = sum(ctx.noise[i].n_eff for i in ctx.calibration)
     calib = (calibration_chi2(ctx, before.simulated) - model.cost, n_par * math.log(max(n_eff_cal, 2.0)))
+    window, quiet = _windows(ctx, name, before, model, telling_heldout)
     ev = gather(ctx.heldout, ctx.measured, before.simulated, model.simulated, ctx.noise, n_par,
-                _identified(model, name), calib, _windows(ctx, name, before, model, telling_heldout))
+                _identified(model, name), calib, window, quiet=quiet)
     if ctx.baseline is not None:
         ev.baseline_excess = excess(ctx.heldout, ctx.measured, ctx.baseline.simulated, ctx.noise)
     ev.after_others = bool(before.extensions)

@@ -177,3 +177,35 @@ def test_a_cause_named_after_others_must_be_material_against_the_baseline():
     assert "R8" in apply_rules(ev).failed and "5.0 %" in ev.failed["R8"]
     ev.baseline_excess = 5.0 * ev.gain
     assert "R8" not in apply_rules(ev).failed
+
+
+def test_a_cause_whose_telling_trials_are_quiet_is_judged_where_it_acts():
+    """R7: when the model before fits the telling trials to noise (it bent to absorb the cause there), the cause is
+    judged where its extension acts, must remove most of the error left, and must not fit the telling trials
+    worse than the BIC penalty."""
+    from neuromuscle.diagnose.evidence import quiet_window
+
+    rng = np.random.default_rng(5)
+    ids, meas, before, after, noise = _case(rng, 0.0, 0.3, 0.9)
+    n = 1000
+    meas["tell"] = np.zeros(n) + ar1(rng, n, 0.05, 0.6)
+    before["tell"], after["tell"] = np.zeros(n), np.zeros(n)
+    noise["tell"] = noise_level(before["tell"] - meas["tell"])
+    telling = {"tell": WindowSamples(np.ones(n, bool), "defined")}
+    assert quiet_window(telling, meas, before, noise)
+    assert not quiet_window(_everywhere(ids), meas, before, noise)
+    acting = {k: WindowSamples(np.ones(n, bool), "acts") for k in ids}
+    held = [*ids, "tell"]
+
+    def judged(after_tell, fix_share=None):
+        aft = {**after, "tell": after_tell}
+        if fix_share is not None:  # the candidate removes only this share of the effect
+            aft.update({k: before[k] + fix_share * (after[k] - before[k]) / 0.9 for k in ids})
+        return apply_rules(gather(held, meas, before, aft, noise, 2, ["x.k"], NO_CAL, acting, quiet=telling))
+
+    ev = judged(np.zeros(n))
+    assert ev.passed and ev.quiet_trials == ("tell",) and ev.quiet_chi2_gain == pytest.approx(0.0), ev.text()
+    ev = judged(np.full(n, 0.1))  # two noise sd off on the telling trial it should fit
+    assert "R7" in ev.failed and set(ev.failed) <= {"R5", "R7"} and ev.quiet_chi2_gain < -ev.quiet_penalty
+    ev = judged(np.zeros(n), fix_share=0.2)  # removes about a third of the error above noise
+    assert "R7" in ev.failed and "telling trials" in ev.failed["R7"]
