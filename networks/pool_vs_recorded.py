@@ -126,8 +126,8 @@ def table(rows: list[dict[str, Any]]) -> list[str]:
     """The markdown table of the criteria, one row a file."""
     lines = ["| file | units rec / model | force NRMSE % | median of medians Hz rec / model | model medians "
              "inside rec 5-95 % | peak Hz rec max / model max (ratio) | thresholds KS | onion skin rho rec / "
-             "model | Delta F Hz rec / model |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "model | Delta F Hz rec / model | plateau rate decline Hz rec / model |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         s, c = r["summary"], r["summary"]["criteria"]
         rec, mod = s["recorded"], s["model"]
@@ -138,7 +138,8 @@ def table(rows: list[dict[str, Any]]) -> list[str]:
             f"{c['medians_inside']['value']} ({lo:.1f}-{hi:.1f}) | {rec['peak_max_hz']:.1f} / {mod['peak_max_hz']:.1f}"
             f" ({c['peak_ratio']['value']:.2f}) | {c['thresholds_ks']['value']:.2f} | "
             f"{rec['onion_skin_rho']:.2f} / {mod['onion_skin_rho']:.2f} | "
-            f"{c['delta_f_hz']['recorded']:.1f} / {c['delta_f_hz']['value']:.1f} |")
+            f"{c['delta_f_hz']['recorded']:.1f} / {c['delta_f_hz']['value']:.1f} | "
+            f"{rec['plateau_rate_decline_hz']:.1f} / {mod['plateau_rate_decline_hz']:.1f} |")
     return lines
 
 

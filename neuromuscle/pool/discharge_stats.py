@@ -146,6 +146,22 @@ def plateau_window_ms(t_ms: np.ndarray, force: np.ndarray, fraction: float = 0.9
     return float(t_ms[above[0]]), float(t_ms[above[-1]])
 
 
+def plateau_rate_decline_hz(trains_ms: Sequence[Sequence[float]], plateau_ms: tuple[float, float],
+                            edge_ms: float = 3000.0, min_discharges: int = 10) -> float:
+    """Median over the units firing through the plateau (at least ``min_discharges`` discharges in each edge) of
+    the rate (Hz; 1 / median interval) over its first ``edge_ms`` (ms) minus that over its last: the slow decline
+    of human discharge rates at a constant force (Kernell & Monster 1982 in the cat under constant current), part of
+    what the paired-unit Delta F of a trapezoid measures.  NaN when no unit qualifies."""
+    p0, p1 = plateau_ms
+    out = []
+    for s in _trains(trains_ms):
+        a = s[(s >= p0) & (s < p0 + edge_ms)]
+        b = s[(s > p1 - edge_ms) & (s <= p1)]
+        if a.size >= min_discharges and b.size >= min_discharges:
+            out.append(1000.0 / np.median(np.diff(a)) - 1000.0 / np.median(np.diff(b)))
+    return float(np.median(out)) if out else float("nan")
+
+
 def smoothed_rate_hz(train_ms: np.ndarray, grid_ms: np.ndarray) -> np.ndarray:
     """The unit's rate on ``grid_ms`` (1-ms grid): the instantaneous rate held from each discharge to the next,
     filtered by a SMOOTHING_MS Hann window; NaN outside the unit's firing (first to last discharge) and in gaps

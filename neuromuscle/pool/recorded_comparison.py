@@ -5,13 +5,12 @@ acceptance criteria they are held to.
     cmp.summary()            # JSON-ready: recorded and model figures side by side, and each criterion's verdict
 
 The units are not matched one to one: each side's statistics are computed on its own units (the recorded ones, and
-the model units that discharge at least ``MIN_DISCHARGES`` times, as a decomposition needs a unit to fire
-repeatedly to find it).  Criteria: every model unit's median rate inside the recorded 5th-95th percentile range
-of the unit medians; the largest model peak rate (95th percentile of a unit's instantaneous rates) at most 1.5
-times the recorded largest; the recruitment thresholds (% MVC) within Kolmogorov-Smirnov distance 0.25 of the
-recorded ones; onion skin (plateau rate falling with recruitment threshold, Spearman rho < 0); Delta F reported
-beside the recorded value.  Units: ms, Hz, % MVC.
-"""
+the model units that discharge at least ``MIN_DISCHARGES`` times, as a decomposition needs a unit to fire repeatedly
+to find it). Criteria: every model unit's median rate inside the recorded 5th-95th percentile range of the unit
+medians; the largest model peak rate (95th percentile of a unit's instantaneous rates) at most 1.5 times the
+recorded largest; the recruitment thresholds (% MVC) within Kolmogorov-Smirnov distance 0.25 of the recorded ones;
+onion skin (plateau rate falling with recruitment threshold, Spearman rho < 0); Delta F reported beside the recorded
+value, with each side's rate decline over the plateau (part of a trapezoid's Delta F). Units: ms, Hz, % MVC."""
 
 from __future__ import annotations
 
@@ -38,6 +37,7 @@ class SideStats:
     thresholds_percent: np.ndarray
     onion: ds.OnionSkin
     delta_f: ds.DeltaF
+    plateau_decline_hz: float
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready figures."""
@@ -45,14 +45,16 @@ class SideStats:
                 "onion_skin_slope_hz_per_percent_mvc": self.onion.slope_hz_per_unit,
                 "thresholds_percent_mvc_quartiles": [float(x) for x in np.nanpercentile(self.thresholds_percent,
                                                                                           [0, 25, 50, 75, 100])],
-                "delta_f": self.delta_f.summary()}
+                "delta_f": self.delta_f.summary(), "plateau_rate_decline_hz": self.plateau_decline_hz}
 
 
 def side_stats(trains_ms: Sequence[np.ndarray], t_ms: np.ndarray, force_percent: np.ndarray,
                plateau_ms: tuple[float, float]) -> SideStats:
-    """Rates, thresholds, onion skin and Delta F of one set of trains against its force (% MVC)."""
+    """Rates, thresholds, onion skin, Delta F and the rates' decline over the plateau (ms) of one set of trains
+    against its force (% MVC)."""
     return SideStats(ds.unit_rates(trains_ms), ds.recruitment_thresholds(trains_ms, t_ms, force_percent),
-                     ds.onion_skin(trains_ms, t_ms, force_percent, plateau_ms), ds.delta_f(trains_ms))
+                     ds.onion_skin(trains_ms, t_ms, force_percent, plateau_ms), ds.delta_f(trains_ms),
+                     ds.plateau_rate_decline_hz(trains_ms, plateau_ms))
 
 
 @dataclass(frozen=True)

@@ -71,3 +71,13 @@ def test_plateau_window_and_bad_trains():
     assert ds.plateau_window_ms(t, np.interp(t, [0, 200, 800, 1000], [0, 10, 10, 0])) == (180.0, 820.0)
     with pytest.raises(InputError, match="train 0"):
         ds.unit_rates([np.array([2.0, 1.0])])
+
+
+def test_plateau_rate_decline_of_units_firing_through_the_plateau():
+    slowing = np.cumsum(np.concatenate([np.full(60, 50.0), np.full(60, 80.0)]))   # 20 Hz, then 12.5 Hz
+    steady = np.arange(0.0, 6000.0, 100.0)                                        # 10 Hz throughout
+    late = np.arange(4000.0, 6000.0, 100.0)                                       # misses the first edge
+    plateau = (0.0, float(slowing[-1]))
+    assert ds.plateau_rate_decline_hz([slowing], plateau, edge_ms=2000.0) == pytest.approx(7.5)
+    assert ds.plateau_rate_decline_hz([steady, late], (0.0, 5900.0), edge_ms=2000.0) == 0.0
+    assert np.isnan(ds.plateau_rate_decline_hz([late], (0.0, 5900.0), edge_ms=2000.0))
