@@ -1,6 +1,7 @@
 """Pools under CoreNEURON: the same spikes, unit forces and pool force as under NEURON, bit for bit (a current ramp
-with either muscle model and either channel set, Poisson input, recorded discharges), also when the run is made in
-chunks to bound the every-step recordings, and on two MPI ranks; a simulator of the other engine is refused."""
+with either muscle model and either channel set, Poisson input, recorded discharges, the synaptic drive at dt 0.05
+ms in either of CoreNEURON's layouts), also when the run is made in chunks to bound the every-step recordings, and
+on two MPI ranks; a simulator of the other engine is refused."""
 
 import json
 import subprocess
@@ -48,6 +49,21 @@ def test_coreneuron_pool_is_neurons_bit_for_bit(ct09, muscle, substeps, channels
 def test_coreneuron_takes_every_drive(ct09, drive):
     d = PoolDefinition(4, ct09, muscle_model="fused")
     _assert_same(_run(d, "neuron", drive), _run(d, "coreneuron", drive))
+
+
+@pytest.mark.parametrize("cell_permute", [0, 1])
+def test_either_coreneuron_layout_is_neurons_bit_for_bit(ct09, cell_permute):
+    """The synaptic drive, the membrane at dt 0.05 ms and the muscle every 4 steps (the fast option)."""
+    d = PoolDefinition(6, ct09, muscle_model="fused", muscle_substeps=4)
+    runs = []
+    for engine in ("neuron", "coreneuron"):
+        with Pool(d, length=-8.0, engine=engine) as pool:
+            pool.drive_synaptic([0.0, 300.0], [0.0, 0.6])
+            runs.append(pool.run(300.0, Simulator(dt_ms=0.05, engine=engine, cell_permute=cell_permute)))
+    _assert_same(*runs)
+    assert runs[1].provenance["settings"]["cell_permute"] == cell_permute
+    with pytest.raises(InputError, match="cell_permute"):
+        Simulator(engine="coreneuron", cell_permute=2)
 
 
 def test_a_run_in_chunks_is_the_run_in_one(ct09, monkeypatch):
