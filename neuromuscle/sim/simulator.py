@@ -252,10 +252,15 @@ class Simulator:
                 after_chunk()
             return
         positive_number("chunk_ms", chunk_ms)
-        k = 1
-        while h.t < duration_ms - 0.5 * self.dt_ms:
+        k, stop = 1, 0.0
+        while stop < duration_ms:
             # chunk ends on the step grid, counted from 0 (no drift from adding chunk lengths)
-            pc.psolve(min(duration_ms, self.dt_ms * round(k * chunk_ms / self.dt_ms)))
+            stop = min(duration_ms, self.dt_ms * round(k * chunk_ms / self.dt_ms))
+            pc.psolve(stop)
+            if h.t < stop - 0.5 * self.dt_ms:
+                # CoreNEURON counts the steps to a stop from a t that carries rounding from the chunks before, and
+                # can stop one step short of it: the step it left out (one step: it takes int(1.5) steps)
+                pc.psolve(h.t + 1.5 * self.dt_ms)
             if after_chunk is not None:
                 after_chunk()
             k += 1

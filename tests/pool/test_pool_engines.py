@@ -74,6 +74,22 @@ def test_a_run_in_chunks_is_the_run_in_one(ct09, monkeypatch):
     _assert_same(whole, _run(d, "coreneuron"))
 
 
+def test_a_run_whose_last_chunk_coreneuron_ends_a_step_short_is_completed(ct09, monkeypatch):
+    """Two chunks, 1048.575 and 51.425 ms: CoreNEURON stops the second one step before 1100 ms; the run still ends
+    at 1100 ms (it used to call psolve without end), as NEURON's."""
+    from neuron import h
+
+    d = PoolDefinition(2, ct09, muscle_model="fused", muscle_substeps=8)
+    monkeypatch.setattr(pool_module, "STEP_RECORD_BUDGET_BYTES", 2 * 40 * 8 * 1048.576)
+    runs = []
+    for engine in ("neuron", "coreneuron"):
+        with Pool(d, length=-8.0, engine=engine) as pool:
+            pool.drive_synaptic([0.0, 1100.0], [0.0, 0.6])
+            runs.append(pool.run(1100.0, Simulator(engine=engine)))
+            assert abs(h.t - 1100.0) < 1e-6
+    _assert_same(*runs)
+
+
 def test_a_simulator_of_the_other_engine_is_refused(ct09):
     with Pool(PoolDefinition(2, ct09), engine="coreneuron") as pool:
         pool.drive_current_ramp([0.0, 50.0], [0.0, 20.0])
