@@ -1,58 +1,106 @@
-"""Recompute the README's pool-avenue table: each fast path of a motoneuron pool against the reference (the three
-Kim mechanisms every step, one mechanism per motoneuron channel, dt 0.025 ms), with the reference at dt/2 for the
-scale of its own error.
+"""Recompute the pool-avenue table of docs/validation/speed.md: each fast path of a motoneuron pool against the
+reference (the three Kim mechanisms every step, one mechanism per motoneuron channel, dt 0.025 ms), with the
+reference at dt/2 for the scale of its own error.
 
-Run from the repository root:  python docs/validation/pool_avenues.py [--units N] [--duration-ms T]
-Prints Markdown (100 units, 2 s: about 45 s on two cores).  The drive is a common current ramp 0 -> 20 nA over
-the run (the benchmark's ramp, compressed); errors in % of the reference's peak pool force; times in s, ms.
+Run from the repository root:  python docs/validation/pool_avenues.py [--units N] [--duration-ms T] [--drive D]
+Prints Markdown (100 units, 2 s: about two minutes on two cores).  The drive is the benchmark's: a common synaptic
+conductance rising 0 -> 0.6 uS over the run ("synaptic": every unit recruited, 8-35 Hz) or a common current ramp
+0 -> 20 nA ("ramp": about 150 Hz).  Errors in % of the reference's peak pool force; times in s, ms; the cost per
+cell-step in ns of integration per motoneuron-and-muscle-unit step, counted at dt 0.025 ms whatever the step (so
+that rows compare by the wall time of the same simulated time); the 1-minute load average before and after.
 """
 
 from __future__ import annotations
 
 import argparse
-from typing import Any
+import os
+from typing import Any, Callable
 
 import numpy as np
 
 from neuromuscle import Simulator, load_parameters
 from neuromuscle.pool import Pool, PoolDefinition
+from neuromuscle.pool.drives import Drive
+from neuromuscle.pool.motoneuron import Motoneuron
 
-#: (label, PoolDefinition fields, dt ms), the reference first.
-CONFIGURATIONS: list[tuple[str, dict[str, Any], float]] = [
-    ("reference", {"muscle_model": "modules", "motoneuron_channels": "separate"}, 0.025),
-    ("reference at dt 0.0125 ms", {"muscle_model": "modules", "motoneuron_channels": "separate"}, 0.0125),
-    ("fused channels (`mn_soma`, `mn_pic`)", {"muscle_model": "modules"}, 0.025),
-    ("+ fused muscle (`KimUnit`, every step)", {"muscle_model": "fused"}, 0.025),
-    ("+ muscle every 4 steps", {"muscle_model": "fused", "muscle_substeps": 4}, 0.025),
-    ("+ muscle every 8 steps (the default)", {"muscle_model": "fused", "muscle_substeps": 8}, 0.025),
+REFERENCE = {"muscle_model": "modules", "motoneuron_channels": "separate"}
+FAST = {"muscle_model": "fused", "muscle_substeps": 8}
+
+
+def nseg_by_type(nseg: dict[str, int]) -> Callable[[Any, str], Motoneuron]:
+    """A cell factory whose dendrite has nseg[type] compartments (the others as defined)."""
+    from dataclasses import replace
+
+    return lambda spec, name: Motoneuron(replace(spec.motoneuron, dend_nseg=nseg.get(spec.unit_type,
+                                                                                     spec.motoneuron.dend_nseg)),
+                                         name=name)
+
+
+#: (label, PoolDefinition fields, dt ms, options: engine, cell_permute, cache_efficient, cells), reference first.
+CONFIGURATIONS: list[tuple[str, dict[str, Any], float, dict[str, Any]]] = [
+    ("reference", REFERENCE, 0.025, {}),
+    ("reference at dt 0.0125 ms", REFERENCE, 0.0125, {}),
+    ("fused channels (`mn_soma`, `mn_pic`)", {"muscle_model": "modules"}, 0.025, {}),
+    ("+ fused muscle (`KimUnit`, every step)", {"muscle_model": "fused"}, 0.025, {}),
+    ("+ muscle every 4 steps", {"muscle_model": "fused", "muscle_substeps": 4}, 0.025, {}),
+    ("+ muscle every 8 steps (0.2 ms)", FAST, 0.025, {}),
+    ("+ membrane at dt 0.0375 ms, muscle every 5 steps (0.1875 ms)", {**FAST, "muscle_substeps": 5}, 0.0375, {}),
+    ("+ membrane at dt 0.05 ms, muscle every 4 steps (0.2 ms)", {**FAST, "muscle_substeps": 4}, 0.05, {}),
+    ("muscle every 8 steps, 2 dendritic compartments instead of 3", {**FAST, "motoneuron_overrides":
+                                                                        {"dend_nseg": 2}}, 0.025, {}),
+    ("muscle every 8 steps, 2 dendritic compartments in S cells only", FAST, 0.025,
+     {"cells": nseg_by_type({"S": 2})}),
+    ("muscle every 8 steps, NEURON's cache-efficient layout", FAST, 0.025, {"cache_efficient": True}),
+    ("muscle every 8 steps, CoreNEURON", FAST, 0.025, {"engine": "coreneuron"}),
+    ("muscle every 8 steps, CoreNEURON, `cell_permute` 1", FAST, 0.025, {"engine": "coreneuron", "cell_permute": 1}),
+    ("dt 0.05 ms, muscle every 4 steps, CoreNEURON", {**FAST, "muscle_substeps": 4}, 0.05,
+     {"engine": "coreneuron"}),
 ]
 
 
-def run(n_units: int, duration_ms: float, fields: dict[str, Any], dt_ms: float) -> Any:
-    """One pool run (PoolResult) of the ramp."""
+def run(n_units: int, duration_ms: float, fields: dict[str, Any], dt_ms: float, drive: str,
+        options: dict[str, Any]) -> Any:
+    """One pool run (PoolResult) of ``drive`` ("synaptic" or "ramp") over duration_ms (ms) at step dt_ms (ms)."""
+    from neuron import coreneuron, h
+
+    engine = options.get("engine", "neuron")
     d = PoolDefinition(n_units, load_parameters("CT09"), smallest_p0_N=0.2, p0_range=20.0, **fields)
-    with Pool(d) as pool:
-        pool.drive_current_ramp([0.0, duration_ms], [0.0, 20.0])
-        return pool.run(duration_ms, Simulator(dt_ms=dt_ms))
+    coreneuron.cell_permute = options.get("cell_permute", 0)
+    with Pool(d, engine=engine, cells=options.get("cells")) as pool:
+        (Drive.rise("synaptic", 0.6, duration_ms) if drive == "synaptic"
+         else Drive.rise("current", 20.0, duration_ms)).apply(pool)
+        h.CVode().cache_efficient(int(options.get("cache_efficient", False)))
+        try:
+            return pool.run(duration_ms, Simulator(dt_ms=dt_ms, engine=engine))
+        finally:
+            coreneuron.cell_permute = 0
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--units", type=int, default=100)
     ap.add_argument("--duration-ms", type=float, default=2000.0)
+    ap.add_argument("--drive", choices=("synaptic", "ramp"), default="synaptic")
     args = ap.parse_args()
-    results = [(label, run(args.units, args.duration_ms, fields, dt)) for label, fields, dt in CONFIGURATIONS]
+    load = os.getloadavg()[0]
+    results = [(label, run(args.units, args.duration_ms, fields, dt, args.drive, opts))
+               for label, fields, dt, opts in CONFIGURATIONS]
     ref = results[0][1]
     peak = float(ref.pool_force_N.max())
-    print(f"{args.units} units, {args.duration_ms / 1000:g} s, ramp 0 -> 20 nA; reference peak pool force "
-          f"{peak:.1f} N\n")
-    print("| configuration | sim s | spikes | max force error % | RMS force error % | largest first-spike shift ms |")
-    print("|---|---|---|---|---|---|")
+    steps = args.units * args.duration_ms / 0.025
+    unit_s = args.units * args.duration_ms / 1000.0
+    max_rate = max(s.size for s in ref.spikes_ms) / (args.duration_ms / 1000.0)
+    print(f"{args.units} units, {args.duration_ms / 1000:g} s, {args.drive} drive; reference: peak pool force "
+          f"{peak:.1f} N, mean rate {sum(s.size for s in ref.spikes_ms) / unit_s:.1f} Hz, largest {max_rate:.0f} Hz; "
+          f"load average {load:.1f} -> {os.getloadavg()[0]:.1f}\n")
+    print("| configuration | sim s | ns per cell-step | spikes | max force error % | RMS force error % | "
+          "largest first-spike shift ms |")
+    print("|---|---|---|---|---|---|---|")
     for label, r in results:
         diff = r.pool_force_N - ref.pool_force_N
         shift = max((abs(a[0] - b[0]) for a, b in zip(r.spikes_ms, ref.spikes_ms) if a.size and b.size),
                     default=0.0)
-        print(f"| {label} | {r.wall_s:.2f} | {sum(s.size for s in r.spikes_ms):,} | "
+        print(f"| {label} | {r.wall_s:.2f} | {r.wall_s / steps * 1e9:.0f} | {sum(s.size for s in r.spikes_ms):,} | "
               f"{100 * np.max(np.abs(diff)) / peak:.2f} | {100 * np.sqrt(np.mean(diff ** 2)) / peak:.3f} | "
               f"{shift:.3f} |")
 

@@ -39,10 +39,13 @@ RANKS = (1, 2)
 DRIVES = ("synaptic", "ramp", "poisson")
 SYNAPTIC_PEAK_US = 0.6
 
+#: The fused muscle's step (ms) when ``substeps`` is not given: every round(MUSCLE_STEP_MS / dt) membrane steps.
+MUSCLE_STEP_MS = 0.2
+
 #: Keys every run's report carries (besides its configuration).
 RUN_KEYS = ("n_units", "ranks", "wall_s", "peak_rss_mib", "build_s", "sim_s", "s_per_unit_s", "spikes",
-            "mean_rate_hz", "peak_rss_mib_per_rank", "startup_s", "load_1min_before", "load_1min_after", "engine",
-            "ns_per_cell_step_per_core")
+            "mean_rate_hz", "max_rate_hz", "peak_rss_mib_per_rank", "startup_s", "load_1min_before",
+            "load_1min_after", "engine", "ns_per_cell_step_per_core")
 
 
 def _load() -> float:
@@ -97,18 +100,21 @@ def agreement(a: Any, b: Any) -> dict[str, Any]:
 
 def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANKS,
                duration_ms: float = DEFAULT_DURATION_MS, dt_ms: float = 0.025, drive: str = "synaptic",
-               full: bool = False, progress: bool = False, muscle: str = "fused", substeps: int = 8,
-               nthread: int = 1, channels: str = "fused", engines: Sequence[str] = ("neuron",)) -> dict[str, Any]:
+               full: bool = False, progress: bool = False, muscle: str = "fused", substeps: int | None = None,
+               nthread: int = 1, channels: str = "fused", engines: Sequence[str] = ("neuron",),
+               cell_permute: int = 1) -> dict[str, Any]:
     """Run every (N, ranks) pair and return {"runs": [report, ...], "skipped": [...], settings}; a rank count
     that cannot run here (no MPI) is listed under "skipped" with the reason.  The drive is a common synaptic
-    conductance rising to SYNAPTIC_PEAK_US over the run ("synaptic", the default: every unit recruited, rates of
-    5-30 Hz as in human motor units, ``mean_rate_hz`` in each report), a common current ramp 0 -> 20 nA
-    ("ramp": the same recruitment by a current, higher rates) or independent Poisson input ("poisson").
-    ``muscle``: "modules" (KimCa, KimAct, KimForce) or "fused" (KimUnit); ``substeps`` k: the fused muscle
-    advances every k membrane steps; ``nthread``: NEURON threads per rank; ``channels``: the motoneurons'
-    ("fused" or "separate").  The defaults are the fast path (fused muscle every 8 steps, fused channels); the
-    errors of each against the reference are in the README ("Motoneuron pools", speed).  ``engines``: "neuron",
-    "coreneuron" or both; with both, "agreement" compares their results of each (N, ranks)."""
+    conductance rising to SYNAPTIC_PEAK_US over the run ("synaptic", the default: every unit recruited, about
+    15 Hz on average and 20-35 Hz at the end, as in human motor units; ``mean_rate_hz`` and ``max_rate_hz`` in
+    each report), a common current ramp 0 -> 20 nA ("ramp": the same recruitment by a current, about 150 Hz) or
+    independent Poisson input ("poisson").  ``muscle``: "modules" (KimCa, KimAct, KimForce) or "fused"
+    (KimUnit); ``substeps`` k: the fused muscle advances every k membrane steps (None: every MUSCLE_STEP_MS,
+    k = round(0.2 ms / dt)); ``nthread``: NEURON threads per rank; ``channels``: the motoneurons' ("fused" or
+    "separate").  The defaults are the fast path (fused muscle every 0.2 ms, fused channels, dt 0.025 ms); the
+    errors of each against the reference are in docs/validation/speed.md.  ``engines``: "neuron", "coreneuron" or
+    both; with both, "agreement" compares their results of each (N, ranks); ``cell_permute``: CoreNEURON's
+    layout (1: compartments interleaved, bit-identical to 0 and faster)."""
     if not units or any(isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in units):
         raise InputError(f"pool sizes must be integers >= 1, got {list(units)}")
     if not ranks or any(isinstance(r, bool) or not isinstance(r, int) or r < 1 for r in ranks):
@@ -120,6 +126,10 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
         raise InputError(f"drive must be one of {', '.join(DRIVES)}, got {drive!r}")
     if muscle not in ("modules", "fused"):
         raise InputError(f"muscle must be 'modules' or 'fused', got {muscle!r}")
+    if substeps is None:
+        substeps = max(1, round(MUSCLE_STEP_MS / dt_ms)) if muscle == "fused" else 1
+    if cell_permute not in (0, 1) or isinstance(cell_permute, bool):
+        raise InputError(f"cell_permute must be 0 or 1, got {cell_permute!r}")
     for name, k in (("substeps", substeps), ("nthread", nthread)):
         if isinstance(k, bool) or not isinstance(k, int) or k < 1:
             raise InputError(f"{name} must be an integer >= 1, got {k!r}")
@@ -130,10 +140,12 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
     if not engines or any(e not in ENGINES for e in engines) or len(set(engines)) != len(engines):
         raise InputError(f"engines must be one or more of {', '.join(ENGINES)}, each once, got {list(engines)}")
     extra = {"ramp": ["--ramp-peak-na", "20"], "synaptic": ["--synaptic-peak-us", str(SYNAPTIC_PEAK_US)]}.get(drive, [])
-    extra += ["--muscle", muscle, "--substeps", str(substeps), "--nthread", str(nthread), "--channels", channels]
+    extra += ["--muscle", muscle, "--substeps", str(substeps), "--nthread", str(nthread), "--channels", channels,
+              "--cell-permute", str(cell_permute)]
     out: dict[str, Any] = {"duration_ms": duration_ms, "dt_ms": dt_ms, "drive": drive, "full": full,
                            "muscle": muscle, "substeps": substeps, "nthread": nthread, "channels": channels,
-                           "cpu_count": os.cpu_count(), "engines": list(engines), "runs": [], "skipped": []}
+                           "cpu_count": os.cpu_count(), "engines": list(engines), "cell_permute": cell_permute,
+                           "runs": [], "skipped": []}
     if len(engines) > 1:
         out["agreement"] = []
     from ..pool.result import load_pool_result
@@ -163,18 +175,19 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
 
 
 def table_lines(res: dict[str, Any]) -> list[str]:
-    """The result as a Markdown table (N x ranks: wall, sim, build, memory, spikes, mean rate, load)."""
+    """The result as a Markdown table (N x ranks: wall, sim, build, memory, spikes, mean and largest rate,
+    load)."""
     lines = [f"pools, {res['duration_ms'] / 1000:g} s simulated at dt {res['dt_ms']} ms, {res['drive']} drive, muscle "
              f"{res.get('muscle', 'modules')} (substeps {res.get('substeps', 1)}), motoneuron channels "
              f"{res.get('channels', 'separate')}, {res.get('nthread', 1)} thread(s)",
              "", "| N | ranks | engine | wall s | sim s | build s | s per unit-s | ns per cell-step per core | "
-             "peak MiB (largest rank) | spikes | mean rate Hz | load |",
+             "peak MiB (largest rank) | spikes | mean / largest rate Hz | load |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in res["runs"]:
         lines.append(f"| {r['n_units']} | {r['ranks']} | {r.get('engine', 'neuron')} | {r['wall_s']:.2f} | "
                      f"{r['sim_s']:.2f} | {r['build_s']:.2f} | {r['s_per_unit_s']:.4f} | "
                      f"{r['ns_per_cell_step_per_core']:.0f} | {r['peak_rss_mib']:.0f} | {r['spikes']} | "
-                     f"{r.get('mean_rate_hz', float('nan')):.1f} | "
+                     f"{r.get('mean_rate_hz', float('nan')):.1f} / {r.get('max_rate_hz', float('nan')):.1f} | "
                      f"{r['load_1min_before']:.1f}-{r['load_1min_after']:.1f} |")
     for s in res["skipped"]:
         lines.append(f"| {s['n_units']} | {s['ranks']} | skipped: {s['reason']} | | | | | | | | | |")

@@ -95,16 +95,19 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bp.add_argument("--muscle", choices=("modules", "fused"), default="fused",
                     help="muscle model: modules (KimCa, KimAct, KimForce) or fused (KimUnit: the same numbers)")
     bp.add_argument("--substeps", type=int, default=None,
-                    help="with --muscle fused: the muscle advances every k membrane steps (step k dt; default 8, "
-                         "and 1 with --muscle modules)")
+                    help="with --muscle fused: the muscle advances every k membrane steps (step k dt; default: "
+                         "every 0.2 ms, k = round(0.2 / dt), and 1 with --muscle modules)")
     bp.add_argument("--channels", choices=CHANNELS, default="fused",
                     help="motoneuron channels: fused (mn_soma + mn_pic, tabulated) or separate (the reference)")
     bp.add_argument("--nthread", type=int, default=1, help="NEURON threads per rank")
     bp.add_argument("--drive", choices=("synaptic", "ramp", "poisson"), default="synaptic",
-                    help="synaptic: common synaptic conductance to 0.6 uS (human-like rates); ramp: common current "
-                         "to 20 nA; poisson: independent Poisson input")
+                    help="synaptic: common synaptic conductance to 0.6 uS (human rates: about 15 Hz mean, 20-35 Hz "
+                         "at the end); ramp: common current to 20 nA (about 150 Hz); poisson: independent Poisson "
+                         "input")
     bp.add_argument("--engines", default="neuron",
                     help="engines, comma separated: neuron, coreneuron (both: their results compared)")
+    bp.add_argument("--cell-permute", type=int, choices=(0, 1), default=1,
+                    help="CoreNEURON's layout: 1 interleaves the cells' compartments (bit-identical, faster)")
     bp.add_argument("--full", action="store_true", help="N = 100..800, 5 s (about half an hour on 2 cores)")
     bp.add_argument("--json", action="store_true")
     bp.set_defaults(func=run_pool)
@@ -127,10 +130,10 @@ def run_pool(args: argparse.Namespace) -> int:
         FULL_DURATION_MS if args.full else DEFAULT_DURATION_MS)
     positive_number("--duration-ms", duration)
     positive_number("--dt-ms", args.dt_ms)
-    substeps = (8 if args.muscle == "fused" else 1) if args.substeps is None else args.substeps
     res = bench_pool(units, _int_list("--ranks", args.ranks), duration, args.dt_ms, args.drive, args.full,
-                     progress=True, muscle=args.muscle, substeps=substeps, nthread=args.nthread,
-                     channels=args.channels, engines=[e.strip() for e in args.engines.split(",") if e.strip()])
+                     progress=True, muscle=args.muscle, substeps=args.substeps, nthread=args.nthread,
+                     channels=args.channels, engines=[e.strip() for e in args.engines.split(",") if e.strip()],
+                     cell_permute=args.cell_permute)
     print(json.dumps(res, indent=1) if args.json else "\n".join(table_lines(res)))
     return 0
 

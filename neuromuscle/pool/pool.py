@@ -379,7 +379,10 @@ class Pool:
             local_spikes = {gid: self._discharges[gid] for gid in self.muscle}
         else:
             t, g = np.array(self._spike_t), np.array(self._spike_gid).astype(int)
-            local_spikes = {gid: np.sort(t[g == gid]) for gid in self.muscle}
+            order = np.lexsort((t, g))   # by unit, then time: one sort, not one pass over every spike per unit
+            t, g = t[order], g[order]
+            bounds = np.searchsorted(g, [[gid, gid + 1] for gid in self.muscle]) if self.muscle else []
+            local_spikes = {gid: t[a:b] for gid, (a, b) in zip(self.muscle, bounds)}
         gathered = pc.py_allgather((local_force, local_spikes, local_recorded, wall))
         force: dict[int, np.ndarray] = {}
         spikes: dict[int, np.ndarray] = {}

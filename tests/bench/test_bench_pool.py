@@ -26,6 +26,7 @@ def test_bench_pool_json_keys_and_consistency(capsys):
         assert len(r["peak_rss_mib_per_rank"]) == r["ranks"]
         assert r["peak_rss_mib"] == max(r["peak_rss_mib_per_rank"]) and 50 < r["peak_rss_mib"] < 4096
         assert r["load_1min_before"] >= 0
+        assert r["mean_rate_hz"] > 0 and 0 <= r["max_rate_hz"] < 60  # the synaptic drive: human rates
     assert len({r["spikes"] for r in res["runs"]}) == 1  # the same pool whatever the ranks
     assert len(table_lines(res)) == 4 + len(res["runs"])
 
@@ -37,6 +38,15 @@ def test_bench_pool_fused_substeps_reach_the_pool(capsys):
     (r,) = res["runs"]
     assert (res["muscle"], res["substeps"]) == ("fused", 2) and (r["muscle"], r["substeps"]) == ("fused", 2)
     assert r["spikes"] > 0 and "muscle fused (substeps 2)" in table_lines(res)[0]
+
+
+def test_bench_pool_muscle_keeps_its_cadence_at_a_longer_membrane_step(capsys):
+    assert main(["bench", "pool", "--json", "--units", "3", "--ranks", "1", "--duration-ms", "60", "--dt-ms",
+                 "0.05", "--drive", "ramp"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    (r,) = res["runs"]
+    assert (res["dt_ms"], res["substeps"], r["substeps"], res["drive"]) == (0.05, 4, 4, "ramp")
+    assert r["ns_per_cell_step_per_core"] == pytest.approx(r["sim_s"] / (3 * 60 / 0.05) * 1e9)
 
 
 def test_bench_pool_defaults_are_the_fast_path_and_the_reference_is_a_flag(capsys):
@@ -54,7 +64,7 @@ def test_bench_pool_defaults_are_the_fast_path_and_the_reference_is_a_flag(capsy
                                 dict(units=[2], drive="sine"), dict(units=[2], muscle="hill"),
                                 dict(units=[2], muscle="modules", substeps=2),
                                 dict(units=[2], muscle="fused", substeps=0), dict(units=[2], nthread=0),
-                                dict(units=[2], channels="hh")])
+                                dict(units=[2], channels="hh"), dict(units=[2], cell_permute=2)])
 def test_bench_pool_refuses_bad_configurations(kw):
     with pytest.raises(InputError):
         bench_pool(**kw)

@@ -1,6 +1,7 @@
 """Pools under CoreNEURON: the same spikes, unit forces and pool force as under NEURON, bit for bit (a current ramp
-with either muscle model and either channel set, Poisson input, recorded discharges), also when the run is made in
-chunks to bound the every-step recordings, and on two MPI ranks; a simulator of the other engine is refused."""
+with either muscle model and either channel set, Poisson input, recorded discharges, the synaptic drive at dt 0.05
+ms in either of CoreNEURON's layouts), also when the run is made in chunks to bound the every-step recordings, and
+on two MPI ranks; a simulator of the other engine is refused."""
 
 import json
 import subprocess
@@ -50,12 +51,43 @@ def test_coreneuron_takes_every_drive(ct09, drive):
     _assert_same(_run(d, "neuron", drive), _run(d, "coreneuron", drive))
 
 
+@pytest.mark.parametrize("cell_permute", [0, 1])
+def test_either_coreneuron_layout_is_neurons_bit_for_bit(ct09, cell_permute):
+    """The synaptic drive, the membrane at dt 0.05 ms and the muscle every 4 steps (the fast option)."""
+    d = PoolDefinition(6, ct09, muscle_model="fused", muscle_substeps=4)
+    runs = []
+    for engine in ("neuron", "coreneuron"):
+        with Pool(d, length=-8.0, engine=engine) as pool:
+            pool.drive_synaptic([0.0, 300.0], [0.0, 0.6])
+            runs.append(pool.run(300.0, Simulator(dt_ms=0.05, engine=engine, cell_permute=cell_permute)))
+    _assert_same(*runs)
+    assert runs[1].provenance["settings"]["cell_permute"] == cell_permute
+    with pytest.raises(InputError, match="cell_permute"):
+        Simulator(engine="coreneuron", cell_permute=2)
+
+
 def test_a_run_in_chunks_is_the_run_in_one(ct09, monkeypatch):
     """Chunks of ~9 ms (events in flight across their ends, samples taken between them) change nothing."""
     d = PoolDefinition(6, ct09, muscle_model="fused")
     whole = _run(d, "coreneuron")
     monkeypatch.setattr(pool_module, "STEP_RECORD_BUDGET_BYTES", 6 * 40 * 8 * 9)
     _assert_same(whole, _run(d, "coreneuron"))
+
+
+def test_a_run_whose_last_chunk_coreneuron_ends_a_step_short_is_completed(ct09, monkeypatch):
+    """Two chunks, 1048.575 and 51.425 ms: CoreNEURON stops the second one step before 1100 ms; the run still ends
+    at 1100 ms (it used to call psolve without end), as NEURON's."""
+    from neuron import h
+
+    d = PoolDefinition(2, ct09, muscle_model="fused", muscle_substeps=8)
+    monkeypatch.setattr(pool_module, "STEP_RECORD_BUDGET_BYTES", 2 * 40 * 8 * 1048.576)
+    runs = []
+    for engine in ("neuron", "coreneuron"):
+        with Pool(d, length=-8.0, engine=engine) as pool:
+            pool.drive_synaptic([0.0, 1100.0], [0.0, 0.6])
+            runs.append(pool.run(1100.0, Simulator(engine=engine)))
+            assert abs(h.t - 1100.0) < 1e-6
+    _assert_same(*runs)
 
 
 def test_a_simulator_of_the_other_engine_is_refused(ct09):
