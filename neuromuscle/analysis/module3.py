@@ -67,6 +67,11 @@ def hill_tension(v: ArrayLike, a0: float, b0: float, P0: float) -> ArrayLike:
     return (b0 * P0 + a0 * v) / (b0 - v)
 
 
+#: The most negative c0/P0 a fit or a calibration may reach: eq 11's lengthening asymptote (2 + c0/P0) Fc must stay
+#: above Fc, so c0 > -P0 (KimForce refuses c0 <= -P0).
+C0_OVER_P0_MIN = 0.999
+
+
 def mashima_tension(v: ArrayLike, c0: float, d0: float, P0: float) -> ArrayLike:
     """Eq 11 at Fc = P0 solved for the tension (N) at lengthening velocity v (mm/s, > 0)."""
     return (d0 * P0 + (2.0 * P0 + c0) * v) / (d0 + v)

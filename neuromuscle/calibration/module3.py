@@ -22,7 +22,7 @@ import numpy as np
 from ..errors import InputError
 from ..analysis.closed_form import hill_mashima_coefficients
 from ..analysis.module3 import force_length as gaussian_force_length
-from ..analysis.module3 import hill_tension, mashima_tension
+from ..analysis.module3 import C0_OVER_P0_MIN, hill_tension, mashima_tension
 from ..measured import Trial
 from .stage import StageResult
 from .trials import in_model_units
@@ -117,6 +117,12 @@ def calibrate_force_length(lengths_mm: Sequence[float], forces_N: Sequence[float
     return StageResult("force-length", values, errors, [f"{x.size} force-length points"])
 
 
+def _admissible_force_velocity(values: dict[str, float], P0: float) -> bool:
+    """Whether Hill/Mashima coefficients lie in eq 10-11's range: a0, b0, d0 > 0 and -P0 < c0 <= 0."""
+    return (all(np.isfinite(values[k]) and values[k] > 0 for k in ("a0", "b0", "d0"))
+            and -C0_OVER_P0_MIN * P0 <= values["c0"] <= 0.0)
+
+
 def calibrate_force_velocity(velocities_mm_s: Sequence[float], tensions_N: Sequence[float],
                              P0: float) -> StageResult:
     """a0 (N), b0 (mm/s), c0 (N), d0 (mm/s) from velocity-tension points at full activation and the optimum.
@@ -133,10 +139,15 @@ def calibrate_force_velocity(velocities_mm_s: Sequence[float], tensions_N: Seque
         raise InputError(f"force-velocity: need >= 2 shortening and >= 2 lengthening points, got {int(s.sum())} "
                          f"and {int(l_.sum())}")
     notes = []
+    values = {}
     if s.sum() == 2 and l_.sum() == 2:
         values = hill_mashima_coefficients(list(zip(v[s | l_], T[s | l_])), P0)
         notes.append("closed form from four points (eqs 13-16)")
-    else:
+        if not _admissible_force_velocity(values, P0):
+            notes[-1] = ("the closed form from four points (eqs 13-16) lies outside eq 11's range (a0, b0, d0 > 0, "
+                         "-P0 < c0 <= 0): bounded least squares instead")
+            values = {}
+    if not values:
         # linear starts: V a0 + b0 (P0 - T) = -V T;  V c0 + d0 (P0 - T) = -V (2 P0 - T)
         vs, ts, vl, tl = v[s], T[s], v[l_], T[l_]
         a_s, b_s = np.linalg.lstsq(np.column_stack([vs, P0 - ts]), -vs * ts, rcond=None)[0]
@@ -144,12 +155,15 @@ def calibrate_force_velocity(velocities_mm_s: Sequence[float], tensions_N: Seque
         span = max(np.max(np.abs(v)), 1e-12)
         a_s, b_s = (a_s if a_s > 0 else 0.2 * P0), (b_s if b_s > 0 else span)
         d_s = d_s if d_s > 0 else span
+        c_lo = -C0_OVER_P0_MIN * P0  # eq 11's asymptote (2 + c0/P0) Fc above Fc; c0 <= 0 (its range)
+        c_s = float(np.clip(c_s, c_lo, 0.0))
         rs = least_squares(lambda p: hill_tension(vs, p[0], p[1], P0) - ts, [a_s, b_s],
                            bounds=([1e-9 * P0, 1e-9 * span], [np.inf, np.inf]))
         rl = least_squares(lambda p: mashima_tension(vl, p[0], p[1], P0) - tl, [c_s, d_s],
-                           bounds=([-np.inf, 1e-9 * span], [np.inf, np.inf]))
+                           bounds=([c_lo, 1e-9 * span], [0.0, np.inf]))
         values = {"a0": float(rs.x[0]), "b0": float(rs.x[1]), "c0": float(rl.x[0]), "d0": float(rl.x[1])}
-        notes.append(f"least squares through {int(s.sum())} shortening and {int(l_.sum())} lengthening points")
+        notes.append(f"least squares through {int(s.sum())} shortening and {int(l_.sum())} lengthening points "
+                     "(c0 within (-P0, 0])")
     res_s = hill_tension(v[s], values["a0"], values["b0"], P0) - T[s]
     res_l = mashima_tension(v[l_], values["c0"], values["d0"], P0) - T[l_]
     allr = np.concatenate([res_s, res_l])

@@ -18,6 +18,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from ..analysis.module3 import C0_OVER_P0_MIN
 from ..errors import InputError
 from ..measured import Trial
 from ..measured.simulation import check_trial_units, trial_simulation
@@ -25,9 +26,6 @@ from ..parameters import SPECS, ParameterSet
 from .evaluate import SimulationOptions
 from .objectives import OBJECTIVES, residual_scales, weighted_residuals
 from .transforms import Transform, default_bounds
-
-#: The most negative c0/P0 a fit may reach (eq 11's asymptote (2 + c0/P0) Fc must stay above Fc).
-C0_OVER_P0_MIN = 0.999
 
 
 class FitProblem:

@@ -30,6 +30,19 @@ def test_force_length_and_velocity_least_squares(ct09):
         calibrate_force_velocity([-1.0, -2.0, 3.0], [20.0, 19.0, 24.0], 23.0)
 
 
+@pytest.mark.parametrize("v", [[-150.0, -60.0, 5.0, 90.0], [-150.0, -60.0, -5.0, 5.0, 30.0, 90.0]])
+def test_force_velocity_stays_in_eq11s_range(v):
+    """Lengthening points above what eq 11 allows with c0 <= 0 (noise, or a muscle stronger in lengthening than
+    the Mashima curve) give c0 in (-P0, 0], never an inadmissible set; the closed form falls back to the bounded
+    fit and says so."""
+    v = np.array(v)
+    T = np.where(v < 0, hill_tension(v, 2.35, 24.35, 23.0), mashima_tension(v, 5.0, 30.3, 23.0))
+    r = calibrate_force_velocity(v, T, 23.0)
+    assert -23.0 < r.values["c0"] <= 0.0 and r.values["d0"] > 0
+    assert any("c0 within (-P0, 0]" in n for n in r.notes)
+    assert r.values["a0"] == pytest.approx(2.35, rel=1e-5)
+
+
 def test_kse_refuses_lengthening(ct09):
     t = np.linspace(0, 0.1, 101)
     tr = Trial(trial_id="s", protocol="step", time_s=t, force=np.ones_like(t), force_unit="N",
