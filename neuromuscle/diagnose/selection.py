@@ -28,9 +28,10 @@ One step, at the current model M (the baseline, then the baseline plus the cause
 6. **two at once** (:func:`joint`), when no candidate passes but one is beyond noise and material alone (rules
    R0, R2, R4) and fails another rule: a second cause in the data can make the first one's held-out gain uneven
    (better where one acts, worse where the other does) and the second one's fit alone lands on the first one's
-   misfit.  The material candidate and the best-screened other one are fitted together (the baseline parameters
-   either interacts with free, from each one's own fit), and each is judged against the model with the other
-   alone, by every rule.  When both pass, both are named at this step, the material one first.
+   misfit.  The material candidate and a second one (the fitted candidate with the best score among those beyond
+   noise, else the best-screened one) are fitted together (the baseline parameters either interacts with free,
+   from each one's own fit), and each is judged against the model with the other alone, by every rule.  When
+   both pass, both are named at this step, the material one first.
 
 The search ends when no candidate passes, none is left, or after ``MAX_STEPS`` causes.  Each step estimates the
 trials' noise again from the residuals of the model it starts from (:func:`noise_under`).
@@ -396,21 +397,33 @@ def fit_alone(ctx: Context, c: Candidate, before: FittedModel) -> None:
     ctx.say(f"    {c.name} (from the {c.model.start}): {c.evidence.text()}")
 
 
-def joint(ctx: Context, s: Step) -> Joint | None:
-    """Step 6 of the module docstring at step ``s`` (where no candidate passed alone): the pair of the material
-    candidate with the best score and the other candidate with the best screen, fitted together and each judged
-    against the model with the other alone; None when no candidate is material alone or none other screens above
-    its penalty."""
+def pair_for(s: Step) -> tuple[Candidate, Candidate] | None:
+    """The two candidates step 6 fits together at step ``s``: the material one (passing R0, R2 and R4 alone) with
+    the best score, and the fitted candidate with the best score among those whose held-out gain beats their
+    penalty (rule R2: a measured gain), else the one with the best screen (a linearised ranking); None when no
+    candidate is material alone or no other one is beyond noise."""
     material = [c for c in s.candidates.values()
                 if c.evidence is not None and not set(JOINT_IF_PASSES) & set(c.evidence.failed)]
     if not material:
         return None
     first = max(material, key=lambda c: c.evidence.score)
+    measured = [c for c in s.candidates.values()
+                if c.name != first.name and c.evidence is not None and "R2" not in c.evidence.failed]
+    if measured:
+        return first, max(measured, key=lambda c: c.evidence.score)
     others = [c for c in s.candidates.values()
               if c.name != first.name and c.screen is not None and c.screen.score > 0]
-    if not others:
+    return (first, max(others, key=lambda c: c.screen.score)) if others else None
+
+
+def joint(ctx: Context, s: Step) -> Joint | None:
+    """Step 6 of the module docstring at step ``s`` (where no candidate passed alone): the pair of
+    :func:`pair_for`, fitted together and each judged against the model with the other alone; None when there is
+    no pair."""
+    pair = pair_for(s)
+    if pair is None:
         return None
-    second = max(others, key=lambda c: c.screen.score)
+    first, second = pair
     if not second.fitted:
         fit_alone(ctx, second, s.before)
     names = (first.name, second.name)

@@ -6,12 +6,12 @@ from types import SimpleNamespace
 import pytest
 
 from neuromuscle.diagnose.evidence import Evidence
-from neuromuscle.diagnose.selection import JOINT_IF_PASSES, Candidate, Joint, Step, at_base, joint
+from neuromuscle.diagnose.selection import JOINT_IF_PASSES, Candidate, Joint, Step, at_base, joint, pair_for
 from neuromuscle.parameters import load_parameters
 
 
-def evidence(failed=()) -> Evidence:
-    ev = Evidence(n_parameters=2, gain=100.0, chi2_gain=90.0, bic_penalty=10.0, bootstrap_p05=1.0, excess=200.0,
+def evidence(failed=(), chi2_gain: float = 90.0) -> Evidence:
+    ev = Evidence(n_parameters=2, gain=100.0, chi2_gain=chi2_gain, bic_penalty=10.0, bootstrap_p05=1.0, excess=200.0,
                   nrmse_before=5.0, nrmse_after=4.0, structured_before=["a"], identified=["x.k"],
                   calibration_chi2_gain=50.0, calibration_penalty=10.0)
     ev.failed = {r: "failed" for r in failed}
@@ -22,11 +22,12 @@ def model(name: str) -> SimpleNamespace:
     return SimpleNamespace(name=name)
 
 
-def candidate(name: str, failed=(), score: float | None = 10.0, fitted: bool = True) -> Candidate:
+def candidate(name: str, failed=(), score: float | None = 10.0, fitted: bool = True,
+              chi2_gain: float = 90.0) -> Candidate:
     c = Candidate(name, ["cal"], ["held"])
     c.screen = None if score is None else SimpleNamespace(score=score)
     if fitted:
-        c.model, c.evidence = model(f"M + {name}"), evidence(failed)
+        c.model, c.evidence = model(f"M + {name}"), evidence(failed, chi2_gain)
     return c
 
 
@@ -78,3 +79,17 @@ def test_putting_p0_back_moves_the_force_valued_parameters_with_it():
     assert back["c0"] > -back["P0"]
     only = at_base(ctx, fitted, ["g1"])
     assert only["g1"] == p["g1"] and (only["P0"], only["c0"]) == (fitted["P0"], fitted["c0"])
+
+
+def test_the_second_of_a_pair_is_the_best_measured_gain_then_the_best_screen():
+    """A fitted held-out gain is a measurement, a screen a linearised ranking: the partner of the material
+    candidate is the fitted one beyond noise (R2) with the best score, whatever the screens say."""
+    a = candidate("a", ["R7"], score=50.0, chi2_gain=500.0)
+    screened_first = candidate("b", ["R2", "R3", "R4", "R7"], score=40.0, chi2_gain=-900.0)
+    measured = candidate("c", ["R7"], score=5.0, chi2_gain=300.0)
+    unfitted = candidate("d", score=30.0, fitted=False)
+    s = Step(1, model("M"), {c.name: c for c in (a, screened_first, measured, unfitted)})
+    first, second = pair_for(s)
+    assert (first.name, second.name) == ("a", "c")
+    s = Step(1, model("M"), {c.name: c for c in (a, screened_first, unfitted)})
+    assert [c.name for c in pair_for(s)] == ["a", "b"]
