@@ -13,8 +13,8 @@ s_k and rho_k its AR(1) noise (:func:`.residuals.noise_level`), n_k samples, n_e
   candidate removes;
 * the same gain, penalty and bootstrap over the **window** where the cause is judged (:mod:`.causes`,
   :mod:`.selection`), each model's residual there measured from its own level (the isometric misfit at a hold's
-  length, 0 elsewhere); when it is judged where its extension acts because the model before already fits its
-  telling trials to noise, the gain and penalty on those **quiet** telling trials too;
+  length, 0 elsewhere); when the model before already fits the cause's telling trials to noise, the window is
+  where its extension acts, and the gain, penalty and bootstrap on those **quiet** telling trials are kept too;
 * the **calibration** chi-square gain of the candidate's fit over the model before it and its BIC penalty (both
   fitted on that chi-square, so this is a likelihood ratio).
 
@@ -76,6 +76,7 @@ class Evidence:
     n_rest: int = 0
     quiet_chi2_gain: float | None = None
     quiet_penalty: float | None = None
+    quiet_p05: float | None = None
     quiet_trials: tuple[str, ...] = ()
     baseline_excess: float | None = None
     after_others: bool = False
@@ -127,7 +128,7 @@ class Evidence:
                 "window_chi2_gain": self.window_chi2_gain, "window_bic_penalty": self.window_penalty,
                 "window_bootstrap_p05": self.window_p05, "window_trials": self.window_trials,
                 "quiet_telling_trials": list(self.quiet_trials), "quiet_chi2_gain": self.quiet_chi2_gain,
-                "quiet_bic_penalty": self.quiet_penalty,
+                "quiet_bic_penalty": self.quiet_penalty, "quiet_bootstrap_p05": self.quiet_p05,
                 "rest_trend_trials": self.rest_left, "trials_with_rest": self.n_rest, "score": self.score,
                 "baseline_excess": self.baseline_excess, "share_of_baseline_excess": self.share_of_baseline_excess,
                 "passed": self.passed, "failed": self.failed}
@@ -190,20 +191,25 @@ def quiet_window(window: Mapping[str, WindowSamples], measured: Mapping[str, np.
     return True
 
 
-def window_gain(window: Mapping[str, WindowSamples], measured: Mapping[str, np.ndarray],
-                before: Mapping[str, np.ndarray], after: Mapping[str, np.ndarray], noise: Mapping[str, Noise],
-                n_parameters: int) -> tuple[float, float]:
-    """The autocorrelation-corrected chi-square gain of the candidate over the model before on ``window`` and its
-    BIC penalty (noise variances)."""
+def window_judgement(window: Mapping[str, WindowSamples], measured: Mapping[str, np.ndarray],
+                     before: Mapping[str, np.ndarray], after: Mapping[str, np.ndarray], noise: Mapping[str, Noise],
+                     n_parameters: int, seed: int = 0) -> tuple[float, float, float]:
+    """The autocorrelation-corrected chi-square gain of the candidate over the model before on ``window``, its BIC
+    penalty (noise variances) and the 5th percentile of its block bootstrap."""
     gain = n_eff = 0.0
+    samples, noises = [], []
     for i, h in window.items():
         nz = noise[i]
         e0 = window_residuals(h, measured[i], before[i])
         e1 = window_residuals(h, measured[i], after[i], before=False)
         w = (1 - nz.rho) / (1 + nz.rho)
-        gain += float(e0 @ e0 - e1 @ e1) / nz.sd_N ** 2 * w
+        d = (e0 ** 2 - e1 ** 2) / nz.sd_N ** 2
+        gain += float(d.sum()) * w
         n_eff += e0.size * w
-    return gain, n_parameters * math.log(max(n_eff, 2.0))
+        samples.append(d)
+        noises.append(nz)
+    p05 = block_bootstrap_p05(samples, noises, np.random.default_rng(seed + 2))
+    return gain, n_parameters * math.log(max(n_eff, 2.0)), p05
 
 
 def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: Mapping[str, np.ndarray],
@@ -235,7 +241,8 @@ def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: M
     if window:
         _window(ev, window, measured, before, after, noise, seed)
     if quiet:
-        ev.quiet_chi2_gain, ev.quiet_penalty = window_gain(quiet, measured, before, after, noise, n_parameters)
+        ev.quiet_chi2_gain, ev.quiet_penalty, ev.quiet_p05 = window_judgement(quiet, measured, before, after, noise,
+                                                                              n_parameters, seed)
         ev.quiet_trials = tuple(quiet)
     return ev
 

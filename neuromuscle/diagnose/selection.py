@@ -18,9 +18,9 @@ One step, at the current model M (the baseline, then the baseline plus the cause
 4. **evidence** (:mod:`.evidence`) on the held-out trials against M, and the rules (:mod:`.rules`).  Where the
    cause is judged (R7): its telling held-out trials, or the held-out samples where its fitted extension changes
    the force by more than ``ACTS_SD`` noise sd when no held-out trial is of its kind (a file with a single
-   stretch-hold or a single post-tetanic series) or when the model before already fits every held-out telling
-   trial to its noise there (a model that bent its other parameters to absorb the cause on those trials: they
-   cannot show it, and rule R7 then also asks the candidate not to fit them worse).  There, a cause defined
+   stretch-hold or a single post-tetanic series) or, as a second way through rule R7, when the model before
+   already fits every held-out telling trial to its noise there (a model that bent its other parameters to absorb
+   the cause on those trials, which may then not show it).  There, a cause defined
    after a movement is measured from the isometric force at the hold's length, and one that acts through the
    movement from the isometric misfit at every sample's length (:func:`.causes.isometric_level`);
 5. the passing candidate with the best whole-file score is named; its model, refitted in every free parameter

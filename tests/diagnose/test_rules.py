@@ -209,3 +209,7 @@ def test_a_cause_whose_telling_trials_are_quiet_is_judged_where_it_acts():
     assert "R7" in ev.failed and set(ev.failed) <= {"R5", "R7"} and ev.quiet_chi2_gain < -ev.quiet_penalty
     ev = judged(np.zeros(n), fix_share=0.2)  # removes about a third of the error above noise
     assert "R7" in ev.failed and "telling trials" in ev.failed["R7"]
+    meas["tell"] = meas["tell"] + 0.05 * np.sin(np.linspace(0, 6, n))  # a misfit below 1.5 sd, which it fits
+    assert quiet_window(telling, meas, before, noise)
+    ev = judged(0.05 * np.sin(np.linspace(0, 6, n)), fix_share=0.2)  # the candidate fits it there
+    assert ev.quiet_chi2_gain > ev.quiet_penalty and ev.quiet_p05 > 0 and "R7" not in ev.failed, ev.text()
