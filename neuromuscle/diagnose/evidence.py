@@ -193,23 +193,29 @@ def quiet_window(window: Mapping[str, WindowSamples], measured: Mapping[str, np.
 
 def window_judgement(window: Mapping[str, WindowSamples], measured: Mapping[str, np.ndarray],
                      before: Mapping[str, np.ndarray], after: Mapping[str, np.ndarray], noise: Mapping[str, Noise],
-                     n_parameters: int, seed: int = 0) -> tuple[float, float, float]:
+                     n_parameters: int, seed: int = 0
+                     ) -> tuple[float, float, float | None, dict[str, tuple[int, float]]]:
     """The autocorrelation-corrected chi-square gain of the candidate over the model before on ``window``, its BIC
-    penalty (noise variances) and the 5th percentile of its block bootstrap."""
+    penalty (noise variances), the 5th percentile of its block bootstrap (None without samples) and each trial's
+    (samples, chi-square gain)."""
     gain = n_eff = 0.0
-    samples, noises = [], []
+    samples, noises, per_trial = [], [], {}
     for i, h in window.items():
+        if not np.any(h.mask):
+            continue
         nz = noise[i]
         e0 = window_residuals(h, measured[i], before[i])
         e1 = window_residuals(h, measured[i], after[i], before=False)
         w = (1 - nz.rho) / (1 + nz.rho)
         d = (e0 ** 2 - e1 ** 2) / nz.sd_N ** 2
-        gain += float(d.sum()) * w
+        g = float(d.sum()) * w
+        gain += g
         n_eff += e0.size * w
         samples.append(d)
         noises.append(nz)
-    p05 = block_bootstrap_p05(samples, noises, np.random.default_rng(seed + 2))
-    return gain, n_parameters * math.log(max(n_eff, 2.0)), p05
+        per_trial[i] = (int(e0.size), g)
+    p05 = block_bootstrap_p05(samples, noises, np.random.default_rng(seed)) if samples else None
+    return gain, n_parameters * math.log(max(n_eff, 2.0)), p05, per_trial
 
 
 def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: Mapping[str, np.ndarray],
@@ -241,8 +247,8 @@ def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: M
     if window:
         _window(ev, window, measured, before, after, noise, seed)
     if quiet:
-        ev.quiet_chi2_gain, ev.quiet_penalty, ev.quiet_p05 = window_judgement(quiet, measured, before, after, noise,
-                                                                              n_parameters, seed)
+        ev.quiet_chi2_gain, ev.quiet_penalty, ev.quiet_p05, _ = window_judgement(quiet, measured, before, after,
+                                                                                 noise, n_parameters, seed + 2)
         ev.quiet_trials = tuple(quiet)
     return ev
 
@@ -250,26 +256,14 @@ def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: M
 def _window(ev: Evidence, window: Mapping[str, WindowSamples], measured: Mapping[str, np.ndarray],
             before: Mapping[str, np.ndarray], after: Mapping[str, np.ndarray], noise: Mapping[str, Noise],
             seed: int) -> None:
-    w_gain, w_neff, samples, noises = 0.0, 0.0, [], []
-    for i, h in window.items():
-        if not np.any(h.mask):
-            continue
-        nz = noise[i]
-        e0 = window_residuals(h, measured[i], before[i])
-        e1 = window_residuals(h, measured[i], after[i], before=False)
-        d = (e0 ** 2 - e1 ** 2) / nz.sd_N ** 2
-        n = int(h.mask.sum())
-        g = float(d.sum()) * (1 - nz.rho) / (1 + nz.rho)
-        w_gain += g
-        w_neff += n * (1 - nz.rho) / (1 + nz.rho)
-        samples.append(d)
-        noises.append(nz)
+    gain, penalty, p05, per_trial = window_judgement(window, measured, before, after, noise, ev.n_parameters,
+                                                     seed + 1)
+    if not per_trial:
+        return
+    for i, (n, g) in per_trial.items():
+        h = window[i]
         ev.window_trials[i] = {"samples": n, "chi2_gain": g, "how": h.how, "isometric_references": list(h.references),
                                "level_before_N": float(np.mean(h.level_before_N)),
                                "level_after_N": float(np.mean(h.level_after_N))}
-    if not samples:
-        return
     ev.window_how = "defined" if all(w["how"] == "defined" for w in ev.window_trials.values()) else "acts"
-    ev.window_chi2_gain = w_gain
-    ev.window_penalty = ev.n_parameters * math.log(max(w_neff, 2.0))
-    ev.window_p05 = block_bootstrap_p05(samples, noises, np.random.default_rng(seed + 1))
+    ev.window_chi2_gain, ev.window_penalty, ev.window_p05 = gain, penalty, p05
