@@ -47,6 +47,11 @@ def flag_table() -> list[tuple[str, list[tuple[str, str, dict[str, Any]]]]]:
             ("--smallest-p0-n", "units.smallest_p0_N",
              {**number, "help": "the smallest unit's P0 (N; instead of --total-p0-n)"}),
             ("--p0-range", "units.p0_range", {**number, "help": "largest / smallest P0"}),
+            ("--max-size", "units.max_size",
+             {**number, "help": "the largest cell's size index (0..1; the smallest cell's is 0)"}),
+            ("--size-spacing", "units.size_spacing",
+             {**number, "help": "how sizes spread over the ranks (1: uniform; K > 1: a K-fold property grows "
+                                "linearly with rank)"}),
             ("--axon-length-mm", "units.axon_length_mm", {**number, "help": "axon length (mm)"}),
             ("--neuromodulation", "units.neuromodulation",
              {**number, "help": "PIC strength (0: none; 1: the decerebrate cat's)"}),

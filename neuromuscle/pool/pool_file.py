@@ -7,6 +7,8 @@
     types = [0.7, 0.2, 0.1]            # S, FR, FF fractions, smallest cells S
     total_p0_N = 600.0                 # the unit P0s sum to this (N) ... or smallest_p0_N
     p0_range = 100.0                   # largest / smallest P0
+    max_size = 1.0                     # the largest cell's size index (0..1; the smallest cell's is 0)
+    size_spacing = 1.0                 # how sizes spread over the ranks (>= 1; PoolDefinition.size_spacing)
     axon_length_mm = 900.0
     neuromodulation = 0.6              # PIC strength (0: none; 1: the decerebrate cat's)
     muscle = "modules"                 # or "fused"
@@ -70,8 +72,8 @@ from .reflex import ReflexDefinition
 #: Every section of a definition file, its fields and their defaults (None: no default, optional).
 FIELDS: dict[str, dict[str, Any]] = {
     "units": {"count": 20, "params": "CT09", "types": [0.7, 0.2, 0.1], "total_p0_N": 600.0, "smallest_p0_N": None,
-              "p0_range": 100.0, "axon_length_mm": 900.0, "neuromodulation": HUMAN_NEUROMODULATION,
-              "muscle": "modules", "channels": "fused"},
+              "p0_range": 100.0, "max_size": 1.0, "size_spacing": 1.0, "axon_length_mm": 900.0,
+              "neuromodulation": HUMAN_NEUROMODULATION, "muscle": "modules", "channels": "fused"},
     "drive": {"kind": "ramp", "peak_uS": 0.6, "peak_nA": 40.0, "times_ms": None, "values_uS": None,
               "values_nA": None, "rate_hz": 400.0, "weight_uS": 0.15, "seed": 0},
     "length": {"kind": "isometric", "mm": -8.0, "seed": 0, "centre_mm": -8.0, "low_mm": -16.0, "high_mm": 0.0,
@@ -244,7 +246,10 @@ def _definition(f: _Fields) -> PoolDefinition:
         muscle = load_parameters(params if params in builtin_sets() else f.path("units.params"))
     except InputError as exc:
         raise InputError(f"{f.where('units.params')}: {exc}") from None
-    fields = {"axon_length_mm": f.positive("units.axon_length_mm"),
+    fields = {"max_size": f.number("units.max_size", lambda x: 0.0 <= x <= 1.0, "in [0, 1] (a size index)"),
+              "size_spacing": f.number("units.size_spacing", lambda x: x >= 1.0,
+                                       ">= 1 (1: sizes uniform in rank)"),
+              "axon_length_mm": f.positive("units.axon_length_mm"),
               "neuromodulation": f.number("units.neuromodulation", lambda x: x >= 0, ">= 0"),
               "muscle_model": f.choice("units.muscle", MUSCLE_MODELS),
               "motoneuron_channels": f.choice("units.channels", CHANNELS), "name": f.text("name")}

@@ -3,8 +3,10 @@ stderr; a definition file (TOML or JSON) with flags replacing its fields; bad in
 field, with nothing written; an existing output kept unless --overwrite; under ``mpiexec -n 2`` the same pool as on
 one rank, recordings included, written once."""
 
+import importlib.util
 import json
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -14,6 +16,7 @@ from neuromuscle.cli import main
 from neuromuscle.pool import load_pool_result
 from neuromuscle.pool.mpi import mpi_available, mpiexec_command
 from neuromuscle.pool.nwb import read_pool_nwb
+from neuromuscle.pool.pool_file import pool_setup, read_document
 
 FILES = ("pool.h5", "pool.nwb", "pool.png")
 NETWORKS = Path(__file__).resolve().parents[2] / "networks"
@@ -162,6 +165,43 @@ def test_the_shipped_stretch_reflex_definition_runs(tmp_path, capsys):
     assert summary["afferents"]["II"]["afferents"] == 4 and summary["afferents"]["Ib"]["spikes"] > 0
 
 
+def _network(name):
+    spec = importlib.util.spec_from_file_location(f"network_{name}", NETWORKS / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_the_shipped_stretch_reflex_definition_is_the_python_examples_pool(tmp_path, capsys):
+    """networks/stretch_reflex.toml builds the units of networks/stretch_reflex.py (the cat soleus pool, sizes
+    0-0.3) and, run by the command, discharges as that example's intact run does, spike for spike."""
+    example = _network("stretch_reflex")
+    python_units = example.definition(10).units()
+    setup = pool_setup(read_document(NETWORKS / "stretch_reflex.toml"), "stretch_reflex.toml")
+    file_units = setup.definition.units()
+    assert [u.motoneuron for u in file_units] == [u.motoneuron for u in python_units]
+    assert [u.muscle["P0"] for u in file_units] == pytest.approx([u.muscle["P0"] for u in python_units], rel=1e-12)
+    assert main(["pool", str(NETWORKS / "stretch_reflex.toml"), "--out", str(tmp_path), "--quiet"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    python_run = example.run(10, -10.0, -4.0, 30.0, 1200.0, 0.003, False)["result"]
+    recruited = sum(s.size > 0 for s in python_run.spikes_ms)
+    assert summary["recruited"] == recruited >= 8
+    r = load_pool_result(tmp_path / "pool.h5")
+    assert all(np.array_equal(a, b) for a, b in zip(r.spikes_ms, python_run.spikes_ms))
+
+
+def test_size_flags_replace_the_files_fields(tmp_path, capsys):
+    (tmp_path / "pool.toml").write_text('[units]\ncount = 3\nsmallest_p0_N = 0.5\nmax_size = 0.3\n'
+                                        '[run]\nduration_ms = 50.0\n')
+    assert main(["pool", str(tmp_path / "pool.toml"), "--max-size", "0.2", "--size-spacing", "5",
+                 "--out", str(tmp_path / "run"), "--quiet"]) == 0
+    units = load_pool_result(tmp_path / "run" / "pool.h5").provenance["definition"]["units"]
+    assert (units["max_size"], units["size_spacing"]) == (0.2, 5.0)
+    assert main(["pool", "--units", "3", "--total-p0-n", "30", "--max-size", "2", "--out", str(tmp_path / "x")]) == 2
+    assert "--max-size must be in [0, 1] (a size index), got 2.0" in capsys.readouterr().err
+
+
 def test_a_definition_without_a_reflex_section_builds_no_afferents(tmp_path, capsys):
     (tmp_path / "pool.toml").write_text('[units]\ncount = 2\nsmallest_p0_N = 0.5\n[run]\nduration_ms = 50.0\n')
     assert main(["pool", str(tmp_path / "pool.toml"), "--out", str(tmp_path / "run"), "--quiet"]) == 0
@@ -214,6 +254,8 @@ def test_a_json_file_gives_the_same_pool_as_the_flags(tmp_path):
     ('[length]\nkind = "ramp"\nvelocity_mm_s = 0\n', "pool.toml: length.velocity_mm_s must be > 0"),
     ('[length]\nkind = "ramp"\nstart_ms = 400\n', "pool.toml: [length]: duration_ms (500.0 ms) ends before"),
     ('[length]\nkind = "stretch"\n', "pool.toml: length.kind must be one of isometric, random, ramp"),
+    ('[units]\nmax_size = -0.1\n', "pool.toml: units.max_size must be in [0, 1] (a size index), got -0.1"),
+    ('[units]\nsize_spacing = 0\n', "pool.toml: units.size_spacing must be >= 1"),
 ])
 def test_bad_definitions_are_refused_naming_file_and_field_with_nothing_written(tmp_path, capsys, text, message):
     path = tmp_path / "pool.toml"

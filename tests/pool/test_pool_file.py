@@ -38,7 +38,21 @@ def test_fields_reach_the_pieces():
     assert (again.length.xm_mm == s.length.xm_mm).all()   # the random length is seeded
 
 
+def test_the_size_range_reaches_the_definition():
+    s = pool_setup({"units": {"count": 5, "smallest_p0_N": 0.3, "max_size": 0.3, "size_spacing": 20.0}}, "test")
+    d = s.definition
+    assert (d.max_size, d.size_spacing) == (0.3, 20.0)
+    sizes = [u.motoneuron.size for u in d.units()]
+    assert sizes[0] == 0.0 and sizes[-1] == pytest.approx(0.3) and sizes == sorted(sizes)
+    assert sizes[1] > 0.3 / 4    # spacing 20 crowds fewer units into the low end than uniform spacing
+    default = pool_setup({"units": {"count": 5, "smallest_p0_N": 0.3}}, "test").definition
+    assert (default.max_size, default.size_spacing) == (1.0, 1.0)
+
+
 @pytest.mark.parametrize("doc, message", [
+    ({"units": {"max_size": 1.5}}, "src: units.max_size must be in \\[0, 1\\] \\(a size index\\), got 1.5"),
+    ({"units": {"max_size": "small"}}, "src: units.max_size must be a finite number, got 'small'"),
+    ({"units": {"size_spacing": 0.5}}, "src: units.size_spacing must be >= 1 \\(1: sizes uniform in rank\\), got 0.5"),
     ({"drive": {"kind": "synaptic", "times_ms": [0, 600], "values_uS": [0, 1]}},
      "src: drive.times_ms reach 600 ms, beyond the run"),
     ({"run": {"record_dt_ms": 0.01}}, "src: run.record_dt_ms = 0.01 ms is shorter than run.dt_ms"),
