@@ -28,7 +28,6 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from ..calibration import MODULE2_FREE, StageResult, calibrate_module2, staged_calibration
-from ..calibration.staged import FORCE_LENGTH_PATH
 from ..errors import InputError
 from ..fit.evaluate import TrialPool
 from ..measured import MeasuredData, Trial
@@ -119,12 +118,12 @@ def free_parameters(data: MeasuredData, phases: Mapping[str, TrialPhases],
     Always Module 2's C1, C2, C3, alpha, Module 1's Umax and tau2 and P0; C1 and C2 held when every stimulated
     calibration trial is a tetanus at one rate (they set the plateau's activation, of which only P0 x A is seen).
     g2 with isometric phases at two lengths or more or with active movement, g1 with three or more or with active
-    movement, unless the file's force-length points measured them: tetani at full activation give g1 and g2 free of
-    any length dependence of activation, which low-rate trials at few lengths would otherwise let the baseline bend
-    them to absorb.  With active movement: KSE and the force-velocity coefficients, a0 and b0 with shortening, c0
-    and d0 with lengthening; a file's force-velocity points and its step shortening give the staged estimate these
-    start from, and the trials refine them (the points carry their own noise, and the step's direct estimate of KSE
-    reads low by the contractile element's shortening during the step)."""
+    movement.  With active movement: KSE and the force-velocity coefficients, a0 and b0 with shortening, c0 and d0
+    with lengthening.  A file's force-length and force-velocity points and its step shortening give the staged
+    estimate these start from, and the trials refine them: the points carry their own noise, force-length points
+    near the optimum say little of the curve's width (seven points at 0.8-1 P0 and 1.8 % noise can miss g2 by a
+    quarter, and trains at the long length then miss by far more than their noise), and the step's direct estimate
+    of KSE reads low by the contractile element's shortening during the step."""
     cal = [phases[i] for i in calibration]
     held: dict[str, str] = {}
     free = list(ACTIVATION)
@@ -137,17 +136,14 @@ def free_parameters(data: MeasuredData, phases: Mapping[str, TrialPhases],
     free.append("P0")
     lengths = _lengths([float(p.length_mm[m].mean()) for p in cal for m in [p.isometric_stimulated()] if m.any()])
     moving = [p for p in cal if p.active_movement]
-    if FORCE_LENGTH_PATH in data.extra_datasets:
-        held["g1"] = held["g2"] = "measured by the file's force-length points (tetani at full activation)"
+    if len(lengths) >= 2 or moving:
+        free.append("g2")
     else:
-        if len(lengths) >= 2 or moving:
-            free.append("g2")
-        else:
-            held["g2"] = "isometric force at one length only"
-        if len(lengths) >= 3 or moving:
-            free.append("g1")
-        else:
-            held["g1"] = f"isometric force at {len(lengths)} length(s) and no movement"
+        held["g2"] = "isometric force at one length only"
+    if len(lengths) >= 3 or moving:
+        free.append("g1")
+    else:
+        held["g1"] = f"isometric force at {len(lengths)} length(s) and no movement"
     if not moving:
         for n in ("KSE", "a0", "b0", "c0", "d0"):
             held[n] = "no active movement in the calibration trials"
