@@ -10,7 +10,8 @@ s_k and rho_k its AR(1) noise (:func:`.residuals.noise_level`), n_k samples, n_e
 * **block bootstrap**: the 5th percentile of the held-out gain over ``N_BOOTSTRAP`` moving-block resamples of the
   per-sample gains (e0^2 - e1^2)/s_k^2 within each trial (blocks of max(4 (1 + rho)/(1 - rho), n/25) samples);
 * **excess**: the held-out error above noise, sum_k max(SSE0_k - n_k s_k^2, 0)/s_k^2, and the share of it the
-  candidate removes;
+  candidate removes; each trial's gain and excess are kept (``per_trial``), so where a candidate gains can be
+  read beside where the error was;
 * the same gain, penalty and bootstrap over the **window** where the cause is judged (:mod:`.causes`,
   :mod:`.selection`), each model's residual there measured from its own level (the isometric misfit at a hold's
   length, 0 elsewhere); when the model before already fits the cause's telling trials to noise, the window is
@@ -80,6 +81,7 @@ class Evidence:
     quiet_trials: tuple[str, ...] = ()
     baseline_excess: float | None = None
     after_others: bool = False
+    per_trial: dict[str, dict[str, float]] = field(default_factory=dict)
     failed: dict[str, str] = field(default_factory=dict)
 
     @property
@@ -131,7 +133,7 @@ class Evidence:
                 "quiet_bic_penalty": self.quiet_penalty, "quiet_bootstrap_p05": self.quiet_p05,
                 "rest_trend_trials": self.rest_left, "trials_with_rest": self.n_rest, "score": self.score,
                 "baseline_excess": self.baseline_excess, "share_of_baseline_excess": self.share_of_baseline_excess,
-                "passed": self.passed, "failed": self.failed}
+                "per_trial": self.per_trial, "passed": self.passed, "failed": self.failed}
 
 
 def block_bootstrap_p05(gains: Sequence[np.ndarray], noise: Sequence[Noise], rng: np.random.Generator,
@@ -227,7 +229,7 @@ def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: M
     held-out samples where the cause is judged (None: no such samples); quiet: its telling trials' window when the
     model before fits them to noise and the cause is judged where it acts instead (None otherwise)."""
     gain = chi2 = excess = n_eff = 0.0
-    per_sample, nr0, nr1 = [], [], []
+    per_sample, nr0, nr1, per_trial = [], [], [], {}
     for i in heldout:
         e0, e1 = before[i] - measured[i], after[i] - measured[i]
         nz = noise[i]
@@ -236,6 +238,7 @@ def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: M
         gain += s0 - s1
         chi2 += (s0 - s1) * (1 - nz.rho) / (1 + nz.rho)
         excess += max(s0 - e0.size, 0.0)
+        per_trial[i] = {"gain": s0 - s1, "excess": max(s0 - e0.size, 0.0)}
         n_eff += nz.n_eff
         per_sample.append((e0 ** 2 - e1 ** 2) / v)
         nr0.append(nrmse_percent(measured[i], before[i]))
@@ -243,7 +246,7 @@ def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: M
     penalty = n_parameters * math.log(max(n_eff, 2.0))
     p05 = block_bootstrap_p05(per_sample, [noise[i] for i in heldout], np.random.default_rng(seed))
     ev = Evidence(n_parameters, gain, chi2, penalty, p05, excess, float(np.mean(nr0)), float(np.mean(nr1)),
-                  structured_trials(measured, before, noise, heldout), identified, *calibration)
+                  structured_trials(measured, before, noise, heldout), identified, *calibration, per_trial=per_trial)
     if window:
         _window(ev, window, measured, before, after, noise, seed)
     if quiet:

@@ -213,3 +213,14 @@ def test_a_cause_whose_telling_trials_are_quiet_is_judged_where_it_acts():
     assert quiet_window(telling, meas, before, noise)
     ev = judged(0.05 * np.sin(np.linspace(0, 6, n)), fix_share=0.2)  # the candidate fits it there
     assert ev.quiet_chi2_gain > ev.quiet_penalty and ev.quiet_p05 > 0 and "R7" not in ev.failed, ev.text()
+
+
+def test_the_evidence_keeps_each_held_out_trials_gain_and_excess():
+    """Per trial, the gain and the error above noise sum to the file's: where a candidate gains can be read beside
+    where the error was."""
+    ids, meas, before, after, noise = _case(np.random.default_rng(3), 0.0, 0.3, 0.8)
+    ev = gather(ids, meas, before, after, noise, 2, ["x.k"], NO_CAL, _everywhere(ids))
+    assert set(ev.per_trial) == set(ids)
+    assert sum(t["gain"] for t in ev.per_trial.values()) == pytest.approx(ev.gain)
+    assert sum(t["excess"] for t in ev.per_trial.values()) == pytest.approx(ev.excess)
+    assert ev.to_json()["per_trial"] == ev.per_trial
