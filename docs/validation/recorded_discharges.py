@@ -3,7 +3,7 @@ model and the fitted twitch sum, both calibrated on the first half of the trial,
 
 Run from the repository root:  python docs/validation/recorded_discharges.py [--data-dir DIR] [--files A.mat,B.mat]
 [--transfer]
-Prints Markdown (about 15 minutes on one core for the eight files; the same fit as ``neuromuscle discharges``).
+Prints Markdown (about 7 minutes on one core for the eight files; the same fit as ``neuromuscle discharges``).
 --transfer adds the table across contraction levels: each trial's fit (of its first half, and of the whole trial)
 carried, unchanged, to the other level's trial of the same subject and grid (S1_30_256 and S1_50_256, S1_30_64L and
 S1_50_64L, when both were fitted).

@@ -17,11 +17,14 @@ run per speed, every P0 = 1 N) and interpolated linearly in log speed between th
 
 Priors (uniform over the ranges of :data:`BOUNDS`), from published human motor-unit properties:
 
-- S0: twitch contraction times of human motor units from about 40 to 125 ms: tibialis anterior units span about
-  20-85 ms (spike-triggered averages of Van Cutsem et al., as summarised by Nagamori et al. 2021), medial
-  gastrocnemius has slow type S units (Garnett et al. 1979) and a whole-muscle contraction time of about 114 ms
-  (Vandervoort & McComas 1983); the low-threshold units are the slow end, so S0 = 81 ms / contraction time
-  in 0.65..2 (CT09's time to peak is 81 ms at speed 1).
+- S0: twitch contraction times of human motor units from about 40 to 200 ms: tibialis anterior units span about
+  20-85 ms in spike-triggered averages (Van Cutsem et al., as summarised by Nagamori et al. 2021), which shorten
+  the contraction time of units slower than about 50 ms because their twitches fuse at the trigger rates (Taylor
+  et al. 2002); medial gastrocnemius has slow type S units (Garnett et al. 1979); the whole triceps surae's
+  twitches, seen at the joint, take 114 +/- 20 ms (medial gastrocnemius) and 157 +/- 15 ms (soleus) to peak
+  (Vandervoort & McComas 1983), so the slowest units reach about 200 ms (the soleus mean + 3 SD).  The
+  low-threshold units are the slow end: S0 = 81 ms / contraction time in 0.4..2 (CT09's time to peak is 81 ms
+  at speed 1; 202 ms at 0.4).
 - RS: contraction times shorten with threshold over at most a 3-fold range across the pool (Fuglevand et al. 1993):
   RS in 1..3 per 100 % MVC of threshold.
 - RP: twitch force grows with recruitment threshold (Milner-Brown, Stein & Yemm 1973; Desmedt & Godaux 1977), over
@@ -48,9 +51,9 @@ from .force_calibration import unit_force_basis
 from .window_fit import WindowScores, bounded_minimize, linear_scale_offset, window_mask, window_scores
 
 #: Twitch speeds (relative to CT09) at which every unit's force is simulated; between them it is interpolated.
-SPEED_GRID = (0.65, 0.95, 1.4, 2.1, 3.2)
+SPEED_GRID = (0.4, 0.65, 0.95, 1.4, 2.1, 3.2)
 #: (low, high, logarithmic) of the fitted parameters: the priors of the module docstring.
-BOUNDS = {"S0": (0.65, 2.0, True), "RS": (1.0, 3.0, True), "RP": (1.0, 300.0, True), "W": (0.0, 2.0, False),
+BOUNDS = {"S0": (0.4, 2.0, True), "RS": (1.0, 3.0, True), "RP": (1.0, 300.0, True), "W": (0.0, 2.0, False),
           "delay_ms": (0.0, 200.0, False)}
 #: Starting points of the search.
 STARTS = ({"S0": 1.0, "RS": 1.5, "RP": 10.0, "W": 1.0, "delay_ms": 40.0},

@@ -5,8 +5,10 @@ import numpy as np
 import pytest
 
 from neuromuscle import load_parameters
+from neuromuscle.analysis import twitch_metrics
 from neuromuscle.errors import InputError
-from neuromuscle.pool.human_units import (BOUNDS, MIN_GAP_PERCENT_MVC, SpeedBases, fit_human_units,
+from neuromuscle.pool.force_calibration import unit_force_basis
+from neuromuscle.pool.human_units import (BOUNDS, MIN_GAP_PERCENT_MVC, SPEED_GRID, SpeedBases, fit_human_units,
                                           represented_gaps, speed_bases, unit_properties)
 
 
@@ -19,17 +21,26 @@ def bases():
         isi = np.clip(rng.normal(70.0 - 5.0 * i, 8.0, 80), 35.0, None)
         d = start + np.cumsum(isi)
         trains.append(d[d < stop])
-    return speed_bases(trains, 4000.0, load_parameters("CT09"), speeds=(0.65, 1.0, 1.6, 2.5), dt_ms=0.1)
+    return speed_bases(trains, 4000.0, load_parameters("CT09"), speeds=(0.4, 0.65, 1.0, 1.6, 2.5), dt_ms=0.1)
 
 
 def test_bases_interpolate_in_log_speed(bases):
     n = bases.forces.shape[1]
-    assert np.array_equal(bases.at(np.full(n, 1.0)), bases.forces[1])
+    assert np.array_equal(bases.at(np.full(n, 1.0)), bases.forces[2])
     mid = bases.at(np.full(n, np.sqrt(1.0 * 1.6)))
-    assert np.allclose(mid, 0.5 * (bases.forces[1] + bases.forces[2]))
+    assert np.allclose(mid, 0.5 * (bases.forces[2] + bases.forces[3]))
     assert np.array_equal(bases.at(np.full(n, 9.0)), bases.forces[-1])  # clipped to the grid
     # faster units relax sooner: less force per newton at these rates
     assert bases.forces[-1].sum() < bases.forces[0].sum()
+
+
+def test_slowest_prior_unit_twitches_in_about_200_ms():
+    # the prior's slowest units (S0 at its lower bound, the grid's slowest speed) peak at CT09's 81 ms / 0.4,
+    # the slow end of human whole-muscle twitches (soleus 157 +/- 15 ms, Vandervoort & McComas 1983)
+    assert SPEED_GRID[0] == BOUNDS["S0"][0] == 0.4
+    t, g = unit_force_basis([np.array([100.0])], 800.0, load_parameters("CT09"), speed=0.4, dt_ms=0.1)
+    tw = twitch_metrics(t, g[0], 100.0)
+    assert tw.time_to_peak_ms == pytest.approx(81.2 / 0.4, rel=0.02), tw  # 81.2 ms at speed 1
 
 
 def test_unit_properties_follow_thresholds():
@@ -69,6 +80,20 @@ def test_fit_recovers_the_model_and_its_intervals_cover_it(bases):
     # 95 % intervals: at least 15 of 20 draws cover each parameter (local intervals: RP and W, which trade off,
     # come lowest)
     assert min(covered.values()) >= 15, covered
+
+
+def test_fit_recovers_slow_units(bases):
+    # contraction time 81 / 0.5 = 162 ms at 0 % MVC, near the soleus's whole-muscle 157 ms
+    th = np.array([2.0, 8.0, 15.0, 25.0])
+    truth = {"S0": 0.5, "RS": 1.5, "RP": 10.0, "W": 1.0, "delay_ms": 20.0}
+    speed, p0 = unit_properties(th, truth["S0"], truth["RS"], truth["RP"], truth["W"])
+    t = bases.t_ms
+    clean = np.interp(t - truth["delay_ms"], t, 3.0 * p0 @ bases.at(speed)) + 0.2
+    y = clean + np.random.default_rng(7).normal(0.0, 0.01 * clean.max(), t.size)
+    fit = fit_human_units(bases, th, y, calibration_ms=(0.0, 2000.0), heldout_ms=(2000.0, 4000.0))
+    lo, hi = fit.intervals["S0"]
+    assert fit.params["S0"] == pytest.approx(0.5, rel=0.1) and lo <= 0.5 <= hi, (fit.params, fit.intervals)
+    assert fit.nrmse_heldout_percent < 2.0
 
 
 def test_fit_refuses_a_target_of_the_wrong_length(bases):
