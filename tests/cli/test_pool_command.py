@@ -3,10 +3,8 @@ stderr; a definition file (TOML or JSON) with flags replacing its fields; bad in
 field, with nothing written; an existing output kept unless --overwrite; under ``mpiexec -n 2`` the same pool as on
 one rank, recordings included, written once."""
 
-import importlib.util
 import json
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -165,18 +163,10 @@ def test_the_shipped_stretch_reflex_definition_runs(tmp_path, capsys):
     assert summary["afferents"]["II"]["afferents"] == 4 and summary["afferents"]["Ib"]["spikes"] > 0
 
 
-def _network(name):
-    spec = importlib.util.spec_from_file_location(f"network_{name}", NETWORKS / f"{name}.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    return mod
-
-
-def test_the_shipped_stretch_reflex_definition_is_the_python_examples_pool(tmp_path, capsys):
+def test_the_shipped_stretch_reflex_definition_is_the_python_examples_pool(tmp_path, capsys, network_script):
     """networks/stretch_reflex.toml builds the units of networks/stretch_reflex.py (the cat soleus pool, sizes
     0-0.3) and, run by the command, discharges as that example's intact run does, spike for spike."""
-    example = _network("stretch_reflex")
+    example = network_script("stretch_reflex")
     python_units = example.definition(10).units()
     setup = pool_setup(read_document(NETWORKS / "stretch_reflex.toml"), "stretch_reflex.toml")
     file_units = setup.definition.units()

@@ -1,8 +1,6 @@
 """The example networks run their small defaults from a temporary folder and write their outputs."""
 
-import importlib.util
 import json
-import sys
 from pathlib import Path
 
 import h5py
@@ -15,17 +13,9 @@ NETWORKS = Path(__file__).resolve().parents[2] / "networks"
 CAILLET = NETWORKS.parent.parent / "shared" / "real_data" / "human_mu_spike_trains_caillet"
 
 
-def _script(name):
-    spec = importlib.util.spec_from_file_location(f"network_{name}", NETWORKS / f"{name}.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    return mod
-
-
-def test_cat_soleus_pool_default(tmp_path, monkeypatch):
+def test_cat_soleus_pool_default(tmp_path, monkeypatch, network_script):
     monkeypatch.chdir(tmp_path)
-    s = _script("cat_soleus_pool").main(["--out", "out"])
+    s = network_script("cat_soleus_pool").main(["--out", "out"])
     assert s["units"] == 20 and s["recruited"] >= 15 and 5.0 < s["peak_pool_force_N"] <= 23.0
     r = load_pool_result(tmp_path / "out" / "cat_soleus_ramp.h5")
     assert [u["type"] for u in r.units].count("S") == 19 and r.provenance["pool"] == "cat_soleus"
@@ -37,8 +27,8 @@ def test_cat_soleus_pool_default(tmp_path, monkeypatch):
         assert (tmp_path / "out" / png).stat().st_size > 10_000
 
 
-def test_human_pool_default(tmp_path):
-    s = _script("human_pool").main(["--out", str(tmp_path / "out")])
+def test_human_pool_default(tmp_path, network_script):
+    s = network_script("human_pool").main(["--out", str(tmp_path / "out")])
     assert s["units"] == 20 and s["recruited"] >= 10
     moving = load_pool_result(tmp_path / "out" / "human_length.h5")
     ramp = load_pool_result(tmp_path / "out" / "human_ramp.h5")
@@ -46,13 +36,14 @@ def test_human_pool_default(tmp_path):
     assert moving.provenance["length_mm"] != ramp.provenance["length_mm"]  # the random length was used
     assert (tmp_path / "out" / "human_summary.png").stat().st_size > 10_000
     with pytest.raises(Exception, match="already holds"):
-        _script("human_pool").main(["--out", str(tmp_path / "out")])  # no silent overwrite
+        network_script("human_pool").main(["--out", str(tmp_path / "out")])  # no silent overwrite
 
 
-def test_reconstructed_pool_prints_its_figures(tmp_path, capsys):
+def test_reconstructed_pool_prints_its_figures(tmp_path, capsys, network_script):
     """The pool of reconstructed_pool.toml, shortened: every unit recruited by the ramp, the figures printed as
     JSON and written beside the result and its figure."""
-    s = _script("reconstructed_pool").main(["--out", str(tmp_path / "out"), "--units", "3", "--duration-ms", "400"])
+    s = network_script("reconstructed_pool").main(["--out", str(tmp_path / "out"), "--units", "3",
+                                                   "--duration-ms", "400"])
     assert json.loads(capsys.readouterr().out.strip().splitlines()[-1]) == s
     assert json.loads((tmp_path / "out" / "reconstructed_pool.json").read_text()) == s
     assert s["units"] == 3 and s["recruited"] == 3 and s["peak_pool_force_N"] > 0.0
@@ -63,8 +54,8 @@ def test_reconstructed_pool_prints_its_figures(tmp_path, capsys):
 
 
 @pytest.mark.skipif(not CAILLET.is_dir(), reason=f"Caillet real-data folder {CAILLET} is absent")
-def test_recorded_discharges_default(tmp_path):
-    s = _script("recorded_discharges").main(["--out", str(tmp_path / "out")])
+def test_recorded_discharges_default(tmp_path, network_script):
+    s = network_script("recorded_discharges").main(["--out", str(tmp_path / "out")])
     assert s["file"] == "S1_30_36L.mat" and s["units"] == 17
     assert s["human_units"]["nrmse_heldout_percent"] < 30.0 and s["twitch_sum"]["nrmse_heldout_percent"] < 30.0
     with h5py.File(tmp_path / "out" / "discharges.h5") as f:
@@ -74,8 +65,8 @@ def test_recorded_discharges_default(tmp_path):
 
 
 @pytest.mark.skipif(not CAILLET.is_dir(), reason=f"Caillet real-data folder {CAILLET} is absent")
-def test_pool_vs_recorded_briefly(tmp_path):
-    s = _script("pool_vs_recorded").main(["--out", str(tmp_path / "out"), "--units", "12", "--corrections", "1",
+def test_pool_vs_recorded_briefly(tmp_path, network_script):
+    s = network_script("pool_vs_recorded").main(["--out", str(tmp_path / "out"), "--units", "12", "--corrections", "1",
                                           "--dt-ms", "0.05"])
     row = s["files"][0]
     assert row["file"] == "S1_30_36L.mat" and row["muscle"] == "TA"

@@ -3,10 +3,8 @@ discharge than with the dorsal roots cut, the Ib pathway reaches the motoneurons
 example's afferent rates follow Prochazka's equations, CoreNEURON and two MPI ranks give NEURON's one-rank run;
 bad definitions are refused by name."""
 
-import importlib.util
 import json
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -117,9 +115,9 @@ def test_bad_definitions_are_refused(kwargs, message):
         ReflexDefinition(**kwargs)
 
 
-def test_the_example_refuses_a_run_without_a_hold(tmp_path):
+def test_the_example_refuses_a_run_without_a_hold(tmp_path, network_script):
     with pytest.raises(InputError, match="the hold window needs the run to last at least 900 ms"):
-        _example().main(["--out", str(tmp_path / "out"), "--duration-ms", "600"])
+        network_script("stretch_reflex").main(["--out", str(tmp_path / "out"), "--duration-ms", "600"])
 
 
 def test_a_reflex_on_a_pool_without_motoneurons_is_refused():
@@ -135,16 +133,8 @@ def test_a_reflex_after_the_drive_is_refused():
             attach_reflex(pool)
 
 
-def _example():
-    spec = importlib.util.spec_from_file_location("network_stretch_reflex", NETWORKS / "stretch_reflex.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    return mod
-
-
-def test_the_example_compares_intact_and_cut_and_its_rates_follow_the_equations(tmp_path):
-    s = _example().main(["--out", str(tmp_path / "out"), "--units", "6", "--duration-ms", "1000"])
+def test_the_example_compares_intact_and_cut_and_its_rates_follow_the_equations(tmp_path, network_script):
+    s = network_script("stretch_reflex").main(["--out", str(tmp_path / "out"), "--units", "6", "--duration-ms", "1000"])
     assert json.loads((tmp_path / "out" / "stretch_reflex.json").read_text()) == s
     assert (tmp_path / "out" / "stretch_reflex.png").stat().st_size > 10_000
     assert s["intact"]["force_N"]["hold"] > s["cut"]["force_N"]["hold"] and s["reflex_force_gain"] > 1.0
