@@ -23,8 +23,8 @@ from .evidence import STRUCTURE_RATIO, Evidence
 MIN_EXCESS_REMOVED_DIFFUSE = 0.5
 #: R4: the least share of the held-out error above noise a named cause removes.
 MIN_EXCESS_REMOVED = 0.25
-#: R8: a cause named after others removes at least this share of the baseline's held-out error above noise.
-MIN_BASELINE_SHARE = 0.10
+#: R8: a cause named after others keeps at least this share of the held-out gain it has alone at the baseline.
+MIN_OWN_SHARE = 0.5
 #: R6: a model leaves structure at rest when at least max(REST_MIN_TRIALS, REST_MIN_FRACTION x trials with a
 #: rest window) trials trend at rest with |z| > REST_Z.
 REST_Z = 3.0
@@ -119,12 +119,12 @@ def _where_it_acts(e: Evidence) -> str | None:
             f"{e.window_penalty:.1f}, bootstrap 5th percentile {e.window_p05:.3g}")
 
 
-def _material_against_the_baseline(e: Evidence) -> str | None:
-    share = e.share_of_baseline_excess
-    if not e.after_others or share is None or share >= MIN_BASELINE_SHARE:
+def _its_own(e: Evidence) -> str | None:
+    share = e.own_share
+    if share is None or share >= MIN_OWN_SHARE:
         return None
-    return (f"named after other causes, it removes {100 * share:.1f} % < {100 * MIN_BASELINE_SHARE:.0f} % of the "
-            "baseline's held-out error above noise")
+    return (f"named after other causes, it keeps {100 * share:.0f} % < {100 * MIN_OWN_SHARE:.0f} % of the held-out "
+            "gain it has alone at the baseline: most of what it explains, the causes before it explain")
 
 
 RULES: tuple[Rule, ...] = (
@@ -157,10 +157,11 @@ RULES: tuple[Rule, ...] = (
          f"removes more than {100 * MIN_EXCESS_REMOVED_DIFFUSE:.0f} % of the held-out error above noise (as R0 asks "
          "of a diffuse gain) and fits the telling trials no worse than the BIC penalty",
          _where_it_acts),
-    Rule("R8", "material against the baseline",
-         f"a cause named after others removes at least {100 * MIN_BASELINE_SHARE:.0f} % of the baseline's held-out "
-         "error above noise: an extension never captures a cause of another form exactly, and what it leaves of a "
-         "named cause is not a second cause", _material_against_the_baseline),
+    Rule("R8", "its own",
+         f"a cause named after others keeps at least {100 * MIN_OWN_SHARE:.0f} % of the held-out gain it has alone "
+         "at the baseline (its gain after them over its gain alone, under the same noise): an extension never "
+         "captures a cause of another form exactly, and a candidate that takes up what it leaves explains mostly "
+         "what the named cause explains, not a second cause", _its_own),
 )
 
 

@@ -15,7 +15,9 @@ One step, at the current model M (the baseline, then the baseline plus the cause
 3. **fit** (:func:`.models.fit_model`): M plus the candidate, the candidate's own parameters and the baseline
    parameters it interacts with free (:func:`refitted`), from M and from M with those baseline parameters put back
    at the base set's values;
-4. **evidence** (:mod:`.evidence`) on the held-out trials against M, and the rules (:mod:`.rules`).  Where the
+4. **evidence** (:mod:`.evidence`) on the held-out trials against M, and the rules (:mod:`.rules`); a candidate
+   that passes every other rule after causes were named is also set beside its own fit at the baseline
+   (:func:`alone_at_baseline`), and must keep most of the held-out gain it has there (rule R8).  Where the
    cause is judged (R7): its telling held-out trials, or the held-out samples where its fitted extension changes
    the force by more than ``ACTS_SD`` noise sd when no held-out trial is of its kind (a file with a single
    stretch-hold or a single post-tetanic series) or, as a second way through rule R7, when the model before
@@ -53,7 +55,7 @@ from ..model.extensions import LENGTH_PARAMETERS
 from ..parameters import ParameterSet
 from .baseline import FORCE_PARAMETERS
 from .causes import causes, isometric_level, telling_trials, where_defined
-from .evidence import Evidence, WindowSamples, excess, gather, quiet_window
+from .evidence import Evidence, WindowSamples, chi2_drop, excess, gather, quiet_window
 from .models import (CANDIDATE_TOLERANCE, MODEL_MAX_ITERATIONS, OPTIONS, FittedModel, extension_class,
                      extension_defaults, fit_model, simulate_all)
 from .phases import TrialPhases
@@ -67,7 +69,7 @@ from .screening import Screen, screen
 #: cause that is not the main one, so the main one is further down the ranking.
 MAX_FITS = 3
 MAX_FITS_SMALL = 6
-SMALL_ONLY = frozenset({"R4", "R8"})
+SMALL_ONLY = frozenset({"R4"})
 FIT_SHARE = 1.0 / 3.0
 #: Causes named at most.
 MAX_STEPS = 3
@@ -175,6 +177,7 @@ class Context:
     pool: TrialPool | None = None
     progress: bool = False
     baseline: FittedModel | None = None
+    alone: dict[str, FittedModel] = field(default_factory=dict)
 
     @property
     def trials(self) -> list[Trial]:
@@ -279,7 +282,24 @@ def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
     have = {i: z for i, z in rest.items() if z is not None}
     ev.rest_left = [i for i, z in have.items() if abs(z) > REST_Z]
     ev.n_rest = len(have)
-    return apply_rules(ev)
+    apply_rules(ev)
+    if ev.after_others and not ev.failed and ctx.baseline is not None:
+        alone = alone_at_baseline(ctx, name)
+        ev.alone_gain = chi2_drop(ctx.heldout, ctx.measured, ctx.baseline.simulated, alone.simulated, ctx.noise)
+        apply_rules(ev)
+    return ev
+
+
+def alone_at_baseline(ctx: Context, name: str) -> FittedModel:
+    """The baseline plus candidate ``name`` alone (rule R8's reference): its fit at the first step when it was
+    fitted there, else fitted now as it would have been (module docstring, step 3)."""
+    if name not in ctx.alone:
+        ctx.say(f"  fitting {ctx.baseline.name} + {name} (its gain alone, rule R8)")
+        ctx.alone[name] = fit_model(ctx.baseline.extensions + (name,), refitted(ctx, name),
+                                    _starts(ctx, name, ctx.baseline, None), ctx.calibration_trials, ctx.trials,
+                                    ctx.noise, pool=ctx.pool, fixed_extensions=ctx.baseline.extensions,
+                                    tolerance=CANDIDATE_TOLERANCE)
+    return ctx.alone[name]
 
 
 def _starts(ctx: Context, name: str, before: FittedModel, screened: Screen | None) -> dict[str, ParameterSet]:
@@ -393,6 +413,8 @@ def fit_alone(ctx: Context, c: Candidate, before: FittedModel) -> None:
     c.model = fit_model(before.extensions + (c.name,), refitted(ctx, c.name), _starts(ctx, c.name, before, c.screen),
                         ctx.calibration_trials, ctx.trials, ctx.noise, pool=ctx.pool,
                         fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE)
+    if before is ctx.baseline:
+        ctx.alone[c.name] = c.model
     c.evidence = judge(ctx, c.name, before, c.model, c.telling_heldout)
     ctx.say(f"    {c.name} (from the {c.model.start}): {c.evidence.text()}")
 

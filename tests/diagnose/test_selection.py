@@ -6,7 +6,9 @@ from types import SimpleNamespace
 import pytest
 
 from neuromuscle.diagnose.evidence import Evidence
-from neuromuscle.diagnose.selection import JOINT_IF_PASSES, Candidate, Joint, Step, at_base, joint, pair_for
+from neuromuscle.diagnose import selection
+from neuromuscle.diagnose.selection import (JOINT_IF_PASSES, Candidate, Joint, Step, alone_at_baseline, at_base,
+                                           fit_alone, joint, pair_for)
 from neuromuscle.parameters import load_parameters
 
 
@@ -93,3 +95,28 @@ def test_the_second_of_a_pair_is_the_best_measured_gain_then_the_best_screen():
     assert (first.name, second.name) == ("a", "c")
     s = Step(1, model("M"), {c.name: c for c in (a, screened_first, unfitted)})
     assert [c.name for c in pair_for(s)] == ["a", "b"]
+
+
+def test_a_candidates_fit_at_the_baseline_is_kept_as_its_gain_alone(monkeypatch):
+    """Rule R8's reference: a candidate fitted at the first step is kept and reused, never refitted; one fitted only
+    later is fitted alone at the baseline once."""
+    fits = []
+
+    def fake_fit(extensions, free, starts, *args, **kwargs):
+        fits.append(tuple(extensions))
+        return SimpleNamespace(name=" + ".join(extensions), start="model before", extensions=tuple(extensions))
+
+    monkeypatch.setattr(selection, "fit_model", fake_fit)
+    monkeypatch.setattr(selection, "judge", lambda ctx, name, before, model, held: evidence())
+    monkeypatch.setattr(selection, "_starts", lambda ctx, name, before, screened: {})
+    baseline = SimpleNamespace(name="baseline", extensions=())
+    ctx = SimpleNamespace(baseline=baseline, alone={}, baseline_free=(), calibration_trials=[], trials=[], noise={},
+                          pool=None, say=lambda text: None)
+    fit_alone(ctx, Candidate("staircase", ["cal"], ["held"]), baseline)
+    assert set(ctx.alone) == {"staircase"} and fits == [("staircase",)]
+    later = SimpleNamespace(name="baseline + staircase", extensions=("staircase",))
+    fit_alone(ctx, Candidate("fatigue", ["cal"], ["held"]), later)
+    assert set(ctx.alone) == {"staircase"}  # fitted after a named cause: not its gain alone
+    assert alone_at_baseline(ctx, "staircase") is ctx.alone["staircase"] and len(fits) == 2
+    assert alone_at_baseline(ctx, "fatigue").extensions == ("fatigue",) and len(fits) == 3
+    assert alone_at_baseline(ctx, "fatigue") is ctx.alone["fatigue"] and len(fits) == 3
