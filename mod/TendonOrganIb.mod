@@ -10,6 +10,8 @@ F (N): the force of the muscle unit it reads; fmax (N): the force the rate is sc
 force, set from Python).  Defaults: kf = 333 /s, r0 = 0 /s.  The rate is held at 0 or above
 (afferent_encoder.inc).  The gain 333 /s is the one quoted for Prochazka's tendon organ model (Prochazka 1999,
 Prog Brain Res 123:133-142); no published source of it, nor of its units, was found: treat it as a placeholder.
+The published tendon organ rate models checked (Lin & Crago 2002; Mileusnic & Loeb 2006), and why neither replaces
+it, are listed in the pools guide (docs/guide/pools.md).
 For scale: a soleus tendon organ fires about 314 /s per g of force on its own capsule, about two orders of
 magnitude more than per g measured at the tendon (Stephens & Stauffer 1975), and responds to the contraction of
 one or two in-series muscle fibres, under 0.1 g (Houk & Henneman 1967, J Neurophysiol 30:466-481).

@@ -7,11 +7,12 @@ read the pool's muscle length, velocity and unit forces, and their spikes reach 
     result = pool.run(1000.0)
     afferent = reflex.spikes()                                       # {"Ia": [...], "II": [...], "Ib": [...]} (ms)
 
-Afferents (mod/SpindleIa.mod, SpindleII.mod, TendonOrganIb.mod: the rate equations of Prochazka & Gorassini 1998
-and Prochazka 1999, turned into spikes by a deterministic integrate-to-threshold): afferent k of a kind sits on
-the muscle section of unit k mod N, reads that unit's MuscleLength (Ia: xm and vm; II: xm) or its force (Ib: F,
-scaled by the unit's P0), and lives on the rank that owns the unit.  Each has a ParallelContext gid (after the
-pool's unit gids), so its spikes reach motoneurons on any rank.
+Afferents (mod/SpindleIa.mod, SpindleII.mod: the rate equations of Prochazka & Gorassini 1998 and Prochazka 1999;
+TendonOrganIb.mod: a linear gain in the unit's force, its source unverified; each rate turned into spikes by a
+deterministic integrate-to-threshold): afferent k of a kind sits on the muscle section of unit k mod N, reads
+that unit's MuscleLength (Ia: xm and vm; II: xm) or its force (Ib: F, scaled by the unit's P0), and lives on the
+rank that owns the unit.  Each has a ParallelContext gid (after the pool's unit gids), so its spikes reach
+motoneurons on any rank.
 
 Pathways: every Ia afferent excites every motoneuron monosynaptically (an excitatory synapse at the soma,
 reversal 0 mV; peak conductance by motoneuron type, ``ia_weight_uS``) after ``ia_delay_ms`` (conduction and
