@@ -1,7 +1,8 @@
 """Pools under CoreNEURON: the same spikes, unit forces and pool force as under NEURON, bit for bit (a current ramp
 with either muscle model and either channel set, Poisson input, recorded discharges, the synaptic drive at dt 0.05
 ms in either of CoreNEURON's layouts), also when the run is made in chunks to bound the every-step recordings, and
-on two MPI ranks; a simulator of the other engine is refused."""
+on two MPI ranks; a simulator of the other engine is refused.  NEURON's threshold-crossing interpolation
+(``CVode.condition_order(2)``) changes nothing under either engine's fixed step."""
 
 import json
 import subprocess
@@ -64,6 +65,39 @@ def test_either_coreneuron_layout_is_neurons_bit_for_bit(ct09, cell_permute):
     assert runs[1].provenance["settings"]["cell_permute"] == cell_permute
     with pytest.raises(InputError, match="cell_permute"):
         Simulator(engine="coreneuron", cell_permute=2)
+
+
+def _synaptic_run(definition, simulator, condition_order):
+    from neuron import h
+
+    cv = h.CVode()
+    cv.condition_order(condition_order)
+    try:
+        with Pool(definition, length=-8.0, engine=simulator.engine) as pool:
+            pool.drive_synaptic([0.0, 300.0], [0.0, 0.6])
+            return pool.run(300.0, simulator)
+    finally:
+        cv.condition_order(1)
+
+
+@pytest.mark.parametrize("engine", ["neuron", "coreneuron"])
+def test_the_fixed_step_does_not_interpolate_threshold_crossings(ct09, engine):
+    """CVode.condition_order(2) places a NetCon's threshold crossing inside the step under CVODE only: under the
+    fixed step (NEURON's, and CoreNEURON's, which accepts the setting) a spike keeps the time of the step that
+    detects it, bit for bit, so the package offers no such setting (docs/validation/speed.md).  Under CVODE the
+    same pool's spikes do move, so the setting reaches NEURON: if a NEURON release starts interpolating under
+    the fixed step, this fails and the fast path's spike timing is worth measuring again."""
+    d = PoolDefinition(4, ct09, muscle_model="fused", muscle_substeps=4)
+    sim = Simulator(dt_ms=0.05, engine=engine)
+    first, second = _synaptic_run(d, sim, 1), _synaptic_run(d, sim, 2)
+    _assert_same(first, second)
+    steps = np.concatenate(second.spikes_ms) / 0.05
+    assert np.allclose(steps, np.round(steps), rtol=0.0, atol=1e-6)   # every spike at a step's end
+    if engine == "neuron":
+        cv1, cv2 = (_synaptic_run(d, Simulator(method="cvode"), order) for order in (1, 2))
+        assert [s.size for s in cv1.spikes_ms] == [s.size for s in cv2.spikes_ms]
+        moved = max(abs(a[0] - b[0]) for a, b in zip(cv1.spikes_ms, cv2.spikes_ms) if a.size)
+        assert 1e-6 < moved < 0.05   # the first spikes, by microseconds (the later ones drift further apart)
 
 
 def test_a_run_in_chunks_is_the_run_in_one(ct09, monkeypatch):
