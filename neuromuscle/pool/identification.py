@@ -47,9 +47,11 @@ from . import discharge_stats as ds
 #: Energy of a unit's surface action potential against its P0: amplitude proportional to P0 (innervation number),
 #: energy to its square.
 SIZE_EXPONENT = 2.0
-#: ln(energy at the muscle's surface / energy at its deep face) of one unit (1).  Estimated on S1_30_256 (the
-#: 256-electrode grid, 84 units), 40-unit TA pool, mean KS distance over 20 seeds (``estimate_depth_attenuation``).
-DEPTH_ATTENUATION = 4.0
+#: ln(energy at the muscle's surface / energy at its deep face) of one unit (1): a unit at the deep face keeps
+#: e^-1.75 = 17 % of the energy (42 % of the amplitude) it would have at the surface.  Estimated on S1_30_256 (the
+#: 256-electrode grid, 84 units) with the 40-unit TA pool: the smallest mean KS distance of the thresholds over
+#: 20 seeds (0.124; 0.13-0.16 from 1.5 to 4, 0.60 at 0: the estimate is loosely determined above 1.5).
+DEPTH_ATTENUATION = 1.75
 #: Seed of the units' depths.
 DEFAULT_SEED = 0
 

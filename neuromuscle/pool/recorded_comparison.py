@@ -19,7 +19,7 @@ KS distance by the muscle units it stands for).  Units: ms, Hz, % MVC."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Sequence
 
 import numpy as np
@@ -82,6 +82,11 @@ def side_criteria(side: SideStats, recorded: SideStats, medians_range_hz: tuple[
             "delta_f_hz": {"value": side.delta_f.median_hz, "recorded": recorded.delta_f.median_hz}}
 
 
+def _pct(values: Sequence[float]) -> list[float]:
+    """Median, 5th and 95th percentiles."""
+    return [float(x) for x in np.percentile(values, [50, 5, 95])]
+
+
 @dataclass(frozen=True)
 class IdentifiedSide:
     """The model units a decomposition would identify: which (``identification``) and their statistics
@@ -89,6 +94,7 @@ class IdentifiedSide:
 
     identification: Identification
     stats: SideStats
+    p0_N: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -120,6 +126,30 @@ class Comparison:
         return side_criteria(self.identified.stats, self.recorded, self.medians_range_hz,
                              self.identified.identification.weights)
 
+    def identified_over_seeds(self, seeds: Sequence[int] = range(20)) -> dict[str, Any] | None:
+        """How the identified units' thresholds KS distance and share of medians inside the recorded range vary
+        with the identification's seed (median and 5th-95th percentiles over ``seeds``; None without an
+        identification)."""
+        if self.identified is None:
+            return None
+        base = self.identified.identification
+        active = np.zeros(base.copies.size, bool)
+        active[self.model_units] = True
+        where = {int(u): k for k, u in enumerate(self.model_units)}
+        lo, hi = self.medians_range_hz
+        ks, inside = [], []
+        for seed in seeds:
+            found = identify(self.identified.p0_N, active, base.count, motor_units=base.motor_units,
+                             model=replace(base.model, seed=int(seed)))
+            k = np.array([where[int(u)] for u in found.units], int)
+            ks.append(ds.ks_distance(self.model.thresholds_percent[k], self.recorded.thresholds_percent,
+                                     found.weights))
+            med = self.model.rates.median_hz[k]
+            inside.append(float(np.mean((med >= lo) & (med <= hi))))
+        return {"seeds": [int(x) for x in seeds], "thresholds_ks_median_p5_p95": _pct(ks),
+                "thresholds_ks_pass_fraction": float(np.mean(np.array(ks) <= KS_LIMIT)),
+                "medians_inside_fraction_median_p5_p95": _pct(inside)}
+
     def summary(self) -> dict[str, Any]:
         """JSON-ready: both sides and the criteria (and the identified units' beside them, when given)."""
         out = {"plateau_ms": list(self.plateau_ms), "model_units": int(self.model_units.size),
@@ -127,7 +157,7 @@ class Comparison:
         if self.identified is not None:
             ident = self.identified.identification
             out["identified"] = {**self.identified.stats.summary(), "identification": ident.summary(),
-                                 "criteria": self.identified_criteria()}
+                                 "criteria": self.identified_criteria(), "over_seeds": self.identified_over_seeds()}
         return out
 
 
@@ -152,6 +182,7 @@ def compare_discharges(trial: DischargeTrial, model_trains_ms: Sequence[np.ndarr
         count = sum(1 for d in trial.discharges_ms if len(d))
         found = identify(p0_N, active, count, motor_units=motor_units, model=identification)
         trains = [np.asarray(model_trains_ms[i], float) for i in found.units]
-        ident = IdentifiedSide(found, side_stats(trains, model_t_ms, model_force_percent, plateau))
+        ident = IdentifiedSide(found, side_stats(trains, model_t_ms, model_force_percent, plateau),
+                               np.asarray(p0_N, float))
     return Comparison(side_stats(trial.discharges_ms, trial.force_t_ms, trial.force_percent_mvc, plateau),
                       side_stats(model, model_t_ms, model_force_percent, plateau), units, plateau, ident)
