@@ -158,7 +158,8 @@ def figure(out: Path, name: str, run: dict[str, Any]) -> None:
     for j, u in enumerate(c.model_units):
         s = result.spikes_ms[u]
         ax.plot(s / 1000.0, np.full(s.size, len(rec) + 2 + j), "|", ms=1.2, color="C0" if u in found else "C3")
-    label_axes(ax, x="time (s)", y="unit (recorded, then model; blue: identified) (index)")
+    label_axes(ax, x="time (s)", y="unit, rec. then model (index)")
+    set_title(ax, "rasters: recorded (black), model (red), model identified (blue)")
     save_figure(fig, out)
 
 

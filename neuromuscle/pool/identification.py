@@ -10,11 +10,13 @@ early-recruited, smaller ones (Caillet et al. 2023).  The model:
 
 - **size**: each unit's surface action potential grows with its number of fibres, which sets its force (the range
   of unit forces is mostly one of innervation numbers: Enoka & Fuglevand 2001), so its amplitude is taken
-  proportional to its P0 (as the amplitudes of Fuglevand, Winter & Patla 1993 follow the twitch forces) and its
-  energy to P0 ** ``size_exponent`` (2: energy goes as amplitude squared);
+  proportional to its P0 (the assumption of the pool EMG models of Fuglevand, Winter & Patla 1993 and Keenan et
+  al. 2005) and its energy to P0 ** ``size_exponent`` (2: energy goes as amplitude squared; only
+  ``depth_attenuation / size_exponent`` matters to which units are chosen);
 - **depth**: the units' territories are scattered through the muscle's thickness (Buchthal, Guld & Rosenfalck
   1957), each one's depth uniform between the muscle's surface (0) and its deep face (1), and the surface potential
-  falls steeply with depth (Fuglevand et al. 1992; Roeleveld et al. 1997; Farina & Merletti 2001): the energy is
+  falls steeply with depth (Fuglevand, Winter, Patla & Stashuk 1992; Roeleveld et al. 1997; Farina & Merletti
+  2001): the energy is
   multiplied by exp(-``depth_attenuation`` depth);
 - **count**: the decomposition identifies the ``count`` active units of highest energy, ``count`` being the number
   of units the recording itself identified (a count, not which units nor their thresholds).
@@ -26,8 +28,9 @@ units active in the trial (firing often enough to be found) are candidates.  Det
 
 ``depth_attenuation`` (the natural log of the energy ratio of a unit at the muscle's surface to the same unit at its
 deep face) is the one parameter not taken from the literature: ``DEPTH_ATTENUATION`` was estimated on one recording
-(``estimate_depth_attenuation``, module docstring of ``networks/pool_vs_recorded.py``); the other recordings are
-held out.  Units: N (P0), depth as a fraction of the muscle's thickness (1), energies relative (1).
+(``estimate_depth_attenuation``; ``python -m neuromuscle.pool.identification DIR/S1_30_256.json`` on a run of
+``networks/pool_vs_recorded.py``); the other recordings are held out.  Units: N (P0), depth as a fraction of the
+muscle's thickness (1), energies relative (1).
 """
 
 from __future__ import annotations
