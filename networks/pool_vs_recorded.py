@@ -147,7 +147,7 @@ def figure(out: Path, name: str, run: dict[str, Any]) -> None:
         order = np.argsort(v[keep])
         v, w = v[keep][order], w[keep][order]
         ax.step(v, np.cumsum(w) / w.sum(), where="post", color=col, label=lab)
-    ax.text(0.98, 0.05, text, transform=ax.transAxes, ha="right", fontsize=8)
+    set_title(ax, f"recruitment thresholds: {text}")
     label_axes(ax, x="recruitment threshold (% MVC)", y="fraction of units (1)")
     legend(ax, small=True)
     ax = axes[3]
