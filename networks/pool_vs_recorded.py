@@ -11,11 +11,17 @@ Caillet et al. 2022, 2023; read by path, never copied):
    the remaining error; the trial starts 0.5 s before the recorded force leaves its baseline, so that the pool
    starts at rest as the muscle did;
 3. the pool's discharges are compared with the recorded ones (``neuromuscle.pool.recorded_comparison``): per-unit
-   median and peak rates, recruitment thresholds (KS distance), onion skin, paired-unit Delta F.
+   median and peak rates, recruitment thresholds (KS distance), onion skin, paired-unit Delta F;
+4. the same for the model units a decomposition of the recording would identify
+   (``neuromuscle.pool.identification``: of the muscle's units, as many as the recording has, those of highest
+   surface action-potential energy, from their P0 and depths drawn from ``--seed``), beside the whole pool.
 The units are not matched one to one.
 
 Run: python networks/pool_vs_recorded.py --out DIR [--file F.mat ...] [--units N] [--corrections K] [--full]
-Default: S1_30_36L.mat, 40 units, one correction.  --full: every file, 80 units.  Writes, per file,
+                                          [--seed S] [--depth-attenuation A]
+Default: S1_30_36L.mat, 40 units, one correction, seed 0, the module's depth attenuation.  --full: every file, 80
+units.  The depth attenuation was estimated on S1_30_256 with
+``python -m neuromuscle.pool.identification DIR/S1_30_256.json`` (40 units).  Writes, per file,
 DIR/<file>.png (force, rate against threshold, threshold distributions, rasters), DIR/<file>_pool.h5 (the pool
 run, provenance) and DIR/<file>.json; DIR/pool_vs_recorded.json (all files) and DIR/pool_vs_recorded.md (the
 table); prints the JSON.  Units: ms, Hz, % MVC, uS.
@@ -35,6 +41,7 @@ import numpy as np
 from neuromuscle.analysis.metrics import nrmse_percent
 from neuromuscle.pool.discharges import RecordedDischarges, load_caillet
 from neuromuscle.pool.follow_force import HUMAN_MUSCLES, Calibration, P0Spread, calibrate, run_drive
+from neuromuscle.pool.identification import DEFAULT_SEED, DEPTH_ATTENUATION, IdentificationModel
 from neuromuscle.pool.recorded_comparison import Comparison, compare_discharges
 from neuromuscle.reports.figures import label_axes, legend, new_figure, save_figure, set_title
 from neuromuscle.reports.outdir import prepare_out_dir
@@ -59,8 +66,10 @@ def lead_in_ms(rec: RecordedDischarges, baseline_percent: float = 1.0) -> float:
     return max(1000.0, first - start + 500.0)
 
 
-def follow(path: Path, cal: Calibration, spread: P0Spread, corrections: int, dt_ms: float) -> dict[str, Any]:
-    """Drive the calibrated pool so that its force follows the file's force; compare the discharges."""
+def follow(path: Path, cal: Calibration, spread: P0Spread, corrections: int, dt_ms: float,
+           identification: IdentificationModel, motor_units: int) -> dict[str, Any]:
+    """Drive the calibrated pool so that its force follows the file's force; compare the discharges, the whole
+    pool's and those of the units a decomposition would identify (the muscle has ``motor_units``)."""
     rec = load_caillet(path)
     trial = rec.trial(pad_ms=lead_in_ms(rec))
     t, force = trial.force_t_ms, trial.force_percent_mvc
@@ -77,9 +86,27 @@ def follow(path: Path, cal: Calibration, spread: P0Spread, corrections: int, dt_
         print(f"{path.name}: pass {k}, force NRMSE {errors[-1]:.2f} % of the recorded range", file=sys.stderr)
         if k < corrections:
             times, drive = cal.correct_drive(spread, times, drive, result, t, force, descent_ms=plateau[1])
-    cmp = compare_discharges(trial, result.spikes_ms, result.t_ms, model)
+    cmp = compare_discharges(trial, result.spikes_ms, result.t_ms, model, p0_N=spread.p0_N(cal.rank),
+                             motor_units=motor_units, identification=identification)
     return {"trial": trial, "result": result, "model_force": model, "times": times, "drive": drive,
             "comparison": cmp, "nrmse_percent": errors}
+
+
+def unit_table(cmp: Comparison, p0_N: np.ndarray) -> dict[str, list]:
+    """Every model unit's P0 (N), whether it is active (in the comparison), its threshold (% MVC) and median rate
+    (Hz) (None when inactive), and its identified copies."""
+    n = len(p0_N)
+    thr: list[float | None] = [None] * n
+    med: list[float | None] = [None] * n
+    for k, u in enumerate(cmp.model_units):
+        thr[u] = float(cmp.model.thresholds_percent[k])
+        med[u] = float(cmp.model.rates.median_hz[k])
+    found = [0] * n if cmp.identified is None else [int(x) for x in cmp.identified.identification.identified_copies]
+    active = [False] * n
+    for u in cmp.model_units:
+        active[u] = True
+    return {"p0_N": [float(x) for x in p0_N], "active": active, "threshold_percent_mvc": thr, "median_hz": med,
+            "identified_copies": found}
 
 
 def figure(out: Path, name: str, run: dict[str, Any]) -> None:
@@ -101,46 +128,75 @@ def figure(out: Path, name: str, run: dict[str, Any]) -> None:
     ax.axhspan(lo, hi, color="0.85", label="recorded 5th-95th pct of medians")
     ax.plot(c.recorded.thresholds_percent, c.recorded.rates.median_hz, "o", ms=3, color="k", label="recorded units")
     ax.plot(c.model.thresholds_percent, c.model.rates.median_hz, "x", ms=4, color="C3", label="model units")
+    if c.identified is not None:
+        ax.plot(c.identified.stats.thresholds_percent, c.identified.stats.rates.median_hz, "s", ms=6, mfc="none",
+                color="C0", label="model units identified")
     label_axes(ax, x="recruitment threshold (% MVC)", y="median rate (Hz)")
     legend(ax, small=True)
     ax = axes[2]
     crit = c.criteria()
-    for v, col, lab in ((c.recorded.thresholds_percent, "k", "recorded"), (c.model.thresholds_percent, "C3", "model")):
-        v = np.sort(v[np.isfinite(v)])
-        ax.step(v, np.arange(1, v.size + 1) / v.size, where="post", color=col, label=lab)
-    ax.text(0.98, 0.05, f"KS {crit['thresholds_ks']['value']:.2f}", transform=ax.transAxes, ha="right", fontsize=8)
+    sets = [(c.recorded.thresholds_percent, None, "k", "recorded"), (c.model.thresholds_percent, None, "C3", "model")]
+    text = f"KS {crit['thresholds_ks']['value']:.2f}"
+    if c.identified is not None:
+        sets.append((c.identified.stats.thresholds_percent, c.identified.identification.weights, "C0",
+                     "model, identified"))
+        text += f" (identified {c.identified_criteria()['thresholds_ks']['value']:.2f})"
+    for v, w, col, lab in sets:
+        w = np.ones(v.size) if w is None else np.asarray(w, float)
+        keep = np.isfinite(v)
+        order = np.argsort(v[keep])
+        v, w = v[keep][order], w[keep][order]
+        ax.step(v, np.cumsum(w) / w.sum(), where="post", color=col, label=lab)
+    set_title(ax, f"recruitment thresholds: {text}")
     label_axes(ax, x="recruitment threshold (% MVC)", y="fraction of units (1)")
     legend(ax, small=True)
     ax = axes[3]
     rec = trial.discharges_ms
     for i, d in enumerate(rec):
         ax.plot(d / 1000.0, np.full(d.size, i), "|", ms=1.2, color="k")
+    found = set() if c.identified is None else {int(u) for u in c.identified.identification.units}
     for j, u in enumerate(c.model_units):
         s = result.spikes_ms[u]
-        ax.plot(s / 1000.0, np.full(s.size, len(rec) + 2 + j), "|", ms=1.2, color="C3")
-    label_axes(ax, x="time (s)", y="unit (recorded, then model) (index)")
+        ax.plot(s / 1000.0, np.full(s.size, len(rec) + 2 + j), "|", ms=1.2, color="C0" if u in found else "C3")
+    label_axes(ax, x="time (s)", y="unit, rec. then model (index)")
+    set_title(ax, "rasters: recorded (black), model (red), model identified (blue)")
     save_figure(fig, out)
 
 
 def table(rows: list[dict[str, Any]]) -> list[str]:
-    """The markdown table of the criteria, one row a file."""
-    lines = ["| file | units rec / model | force NRMSE % | median of medians Hz rec / model | model medians "
-             "inside rec 5-95 % | peak Hz rec max / model max (ratio) | thresholds KS | onion skin rho rec / "
-             "model | Delta F Hz rec / model | plateau rate decline Hz rec / model |",
+    """The markdown table of the criteria, one row a file; the whole pool's active units ("pool") and those a
+    decomposition would identify ("ident.") side by side."""
+    lines = ["| file | units rec / pool / ident. | force NRMSE % | median of medians Hz rec / pool / ident. | "
+             "medians inside rec 5-95 % pool / ident. | peak Hz rec max / pool max (ratio) | thresholds KS pool / "
+             "ident. (ident. over 20 seeds: median, 5-95 %) | onion skin rho rec / pool / ident. | Delta F Hz rec "
+             "/ pool | plateau rate decline Hz rec / pool |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         s, c = r["summary"], r["summary"]["criteria"]
         rec, mod = s["recorded"], s["model"]
+        idn = s.get("identified", {"units": 0, "median_of_medians_hz": float("nan"), "onion_skin_rho": float("nan")})
+        ci = idn.get("criteria", {"medians_inside": {"value": "-"}, "thresholds_ks": {"value": float("nan")}})
         lo, hi = c["medians_inside"]["range_hz"]
+        n_id = idn["identification"]["count"] if "identification" in idn else 0
         lines.append(
-            f"| {r['file']} | {rec['units']} / {mod['units']} | {r['nrmse_percent']:.1f} | "
-            f"{rec['median_of_medians_hz']:.1f} / {mod['median_of_medians_hz']:.1f} | "
-            f"{c['medians_inside']['value']} ({lo:.1f}-{hi:.1f}) | {rec['peak_max_hz']:.1f} / {mod['peak_max_hz']:.1f}"
-            f" ({c['peak_ratio']['value']:.2f}) | {c['thresholds_ks']['value']:.2f} | "
-            f"{rec['onion_skin_rho']:.2f} / {mod['onion_skin_rho']:.2f} | "
+            f"| {r['file']} | {rec['units']} / {mod['units']} / {idn['units']} ({n_id}) | {r['nrmse_percent']:.1f} | "
+            f"{rec['median_of_medians_hz']:.1f} / {mod['median_of_medians_hz']:.1f} / "
+            f"{idn['median_of_medians_hz']:.1f} | "
+            f"{c['medians_inside']['value']} / {ci['medians_inside']['value']} ({lo:.1f}-{hi:.1f}) | "
+            f"{rec['peak_max_hz']:.1f} / {mod['peak_max_hz']:.1f} ({c['peak_ratio']['value']:.2f}) | "
+            f"{c['thresholds_ks']['value']:.2f} / {ci['thresholds_ks']['value']:.2f}{_over_seeds(idn)} | "
+            f"{rec['onion_skin_rho']:.2f} / {mod['onion_skin_rho']:.2f} / {idn['onion_skin_rho']:.2f} | "
             f"{c['delta_f_hz']['recorded']:.1f} / {c['delta_f_hz']['value']:.1f} | "
             f"{rec['plateau_rate_decline_hz']:.1f} / {mod['plateau_rate_decline_hz']:.1f} |")
     return lines
+
+
+def _over_seeds(identified: dict[str, Any]) -> str:
+    """" (median, 5th-95th percentile)" of the identified units' KS distance over seeds, or ""."""
+    if "over_seeds" not in identified:
+        return ""
+    m, lo, hi = identified["over_seeds"]["thresholds_ks_median_p5_p95"]
+    return f" ({m:.2f}, {lo:.2f}-{hi:.2f})"
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
@@ -153,6 +209,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--corrections", type=int, default=1, help="drive corrections after the inverted one")
     ap.add_argument("--dt-ms", type=float, default=0.025, help="fixed step (ms)")
     ap.add_argument("--full", action="store_true", help="every file, 80 units")
+    ap.add_argument("--seed", type=int, default=DEFAULT_SEED, help="seed of the identification's unit depths")
+    ap.add_argument("--depth-attenuation", type=float, default=DEPTH_ATTENUATION,
+                    help="ln of a unit's surface-energy ratio, muscle surface / deep face (identification)")
     ap.add_argument("--overwrite", action="store_true")
     a = ap.parse_args(argv)
     names = list(ALL_FILES) if a.full and not a.file else (a.file or ["S1_30_36L.mat"])
@@ -161,6 +220,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     out = prepare_out_dir(a.out, a.overwrite, [*SUMMARY_FILES, *(f"{s}{x}" for s in stems
                                                                    for x in (".png", ".json", "_pool.h5"))])
     n = a.units or (80 if a.full else 40)
+    ident_model = IdentificationModel(depth_attenuation=a.depth_attenuation, seed=a.seed)
     t0 = time.time()
     calibrations: dict[str, tuple[Calibration, P0Spread]] = {}
     rows = []
@@ -174,13 +234,17 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                   f"{sp.mvc_drive_uS:.3g} uS, thresholds {sp.rms_error_percent:.2f} % MVC rms from the published",
                   file=sys.stderr)
         cal, spread = calibrations[m]
-        run = follow(path, cal, spread, a.corrections, a.dt_ms)
-        summary = run["comparison"].summary()
+        run = follow(path, cal, spread, a.corrections, a.dt_ms, ident_model, HUMAN_MUSCLES[m].motor_units)
+        cmp: Comparison = run["comparison"]
+        summary = cmp.summary()
         row = {"file": path.name, "muscle": m, "nrmse_percent": run["nrmse_percent"][-1],
                "nrmse_percent_passes": run["nrmse_percent"], "summary": summary,
                "pool": {"units": n, "p0_range": spread.range_ratio, "p0_exponent": spread.exponent,
                         "mvc_drive_uS": spread.mvc_drive_uS, "thresholds_rms_percent": spread.rms_error_percent,
-                        "neuromodulation": cal.definition.neuromodulation}}
+                        "neuromodulation": cal.definition.neuromodulation},
+               "identification": {**ident_model.provenance(), "motor_units": HUMAN_MUSCLES[m].motor_units},
+               "units": unit_table(cmp, spread.p0_N(cal.rank)),
+               "recorded_thresholds_percent_mvc": [float(x) for x in cmp.recorded.thresholds_percent]}
         run["result"].save(out / f"{path.stem}_pool.h5", overwrite=a.overwrite)
         figure(out / f"{path.stem}.png", path.stem, run)
         (out / f"{path.stem}.json").write_text(json.dumps(row, indent=1, default=float))

@@ -75,6 +75,10 @@ def test_pool_vs_recorded_briefly(tmp_path, network_script):
     assert set(crit) == {"medians_inside", "peak_ratio", "thresholds_ks", "onion_skin", "delta_f_hz"}
     assert row["summary"]["model_units"] >= 3 and crit["peak_ratio"]["value"] < 3.0
     assert np.isfinite(crit["delta_f_hz"]["recorded"])
+    ident = row["summary"]["identified"]                           # the units a decomposition would find
+    assert ident["identification"]["count"] == 17 == sum(ident["identification"]["weights"])
+    assert set(ident["criteria"]) == set(crit) and row["identification"]["seed"] == 0
+    assert row["identification"]["depth_attenuation"] == ident["identification"]["model"]["depth_attenuation"]
     for name in ("S1_30_36L.png", "S1_30_36L.json", "S1_30_36L_pool.h5", "pool_vs_recorded.md"):
         assert (tmp_path / "out" / name).stat().st_size > 200
     assert load_pool_result(tmp_path / "out" / "S1_30_36L_pool.h5").drive == "synaptic"

@@ -1,0 +1,211 @@
+"""Which of a pool's units a decomposition of surface EMG would identify.
+
+    ident = identify(p0_N, active, count=84, motor_units=400)       # the muscle units a grid's decomposition finds
+    ident.units, ident.weights                                      # model units identified, and how many copies
+
+A decomposition of high-density surface EMG (blind source separation: Holobar & Zazula 2007; Negro et al. 2016)
+identifies a sample of the active units, biased towards those whose action potentials carry the most energy at
+the skin (Farina et al. 2008; Del Vecchio et al. 2020); larger and denser grids identify more units and more of the
+early-recruited, smaller ones (Caillet et al. 2023).  The model:
+
+- **size**: each unit's surface action potential grows with its number of fibres, which sets its force (the range
+  of unit forces is mostly one of innervation numbers: Enoka & Fuglevand 2001), so its amplitude is taken
+  proportional to its P0 (the assumption of the pool EMG models of Fuglevand, Winter & Patla 1993 and Keenan et
+  al. 2005) and its energy to P0 ** ``size_exponent`` (2: energy goes as amplitude squared; only
+  ``depth_attenuation / size_exponent`` matters to which units are chosen);
+- **depth**: the units' territories are scattered through the muscle's thickness (Buchthal, Guld & Rosenfalck
+  1957), each one's depth uniform between the muscle's surface (0) and its deep face (1), and the surface potential
+  falls steeply with depth (Fuglevand, Winter, Patla & Stashuk 1992; Roeleveld et al. 1997; Farina & Merletti
+  2001): the energy is
+  multiplied by exp(-``depth_attenuation`` depth);
+- **count**: the decomposition identifies the ``count`` active units of highest energy, ``count`` being the number
+  of units the recording itself identified (a count, not which units nor their thresholds).
+
+A model pool has fewer units than the muscle: each model unit stands for ``motor_units / n`` units of the muscle
+(``copies_per_unit``), each copy with its own depth, drawn from ``seed``; the identified sample is ``count`` copies,
+and a model unit is identified when one or more of its copies is (``Identification.weights``: how many).  Only
+units active in the trial (firing often enough to be found) are candidates.  Deterministic given the seed.
+
+``depth_attenuation`` (the natural log of the energy ratio of a unit at the muscle's surface to the same unit at its
+deep face) is the one parameter not taken from the literature: ``DEPTH_ATTENUATION`` was estimated on one recording
+(``estimate_depth_attenuation``; ``python -m neuromuscle.pool.identification DIR/S1_30_256.json`` on a run of
+``networks/pool_vs_recorded.py``); the other recordings are held out.  Units: N (P0), depth as a fraction of the
+muscle's thickness (1), energies relative (1).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..errors import InputError
+from ..validate import nonnegative_number, seed_value
+from . import discharge_stats as ds
+
+#: Energy of a unit's surface action potential against its P0: amplitude proportional to P0 (innervation number),
+#: energy to its square.
+SIZE_EXPONENT = 2.0
+#: ln(energy at the muscle's surface / energy at its deep face) of one unit (1): a unit at the deep face keeps
+#: e^-1.75 = 17 % of the energy (42 % of the amplitude) it would have at the surface.  Estimated on S1_30_256 (the
+#: 256-electrode grid, 84 units) with the 40-unit TA pool: the smallest mean KS distance of the thresholds over
+#: 20 seeds (0.124; 0.13-0.16 from 1.5 to 4, 0.60 at 0: the estimate is loosely determined above 1.5).
+DEPTH_ATTENUATION = 1.75
+#: Seed of the units' depths.
+DEFAULT_SEED = 0
+
+
+@dataclass(frozen=True)
+class IdentificationModel:
+    """The identification model's parameters (module docstring): ``depth_attenuation`` (1, >= 0),
+    ``size_exponent`` (1, >= 0) and the ``seed`` of the depths."""
+
+    depth_attenuation: float = DEPTH_ATTENUATION
+    size_exponent: float = SIZE_EXPONENT
+    seed: int = DEFAULT_SEED
+    source: str = field(default="energy ~ P0 ** size_exponent * exp(-depth_attenuation * depth); "
+                                "depth_attenuation estimated on S1_30_256", compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "depth_attenuation", nonnegative_number("depth_attenuation",
+                                                                         self.depth_attenuation))
+        object.__setattr__(self, "size_exponent", nonnegative_number("size_exponent", self.size_exponent))
+        object.__setattr__(self, "seed", seed_value(self.seed))
+
+    def provenance(self) -> dict[str, Any]:
+        """JSON-ready parameters and seed."""
+        return asdict(self)
+
+
+def copies_per_unit(n_units: int, motor_units: int) -> np.ndarray:
+    """How many of the muscle's ``motor_units`` each of ``n_units`` model units stands for (as even as possible,
+    summing to ``motor_units``)."""
+    if isinstance(n_units, bool) or not isinstance(n_units, (int, np.integer)) or n_units < 1:
+        raise InputError(f"n_units must be a positive integer, got {n_units!r}")
+    if isinstance(motor_units, bool) or not isinstance(motor_units, (int, np.integer)) or motor_units < n_units:
+        raise InputError(f"motor_units must be an integer >= the pool's {n_units} units, got {motor_units!r}")
+    edges = np.round(np.linspace(0.0, float(motor_units), int(n_units) + 1)).astype(int)
+    return np.diff(edges)
+
+
+def muap_energy(p0_N: np.ndarray, depth: np.ndarray, *, size_exponent: float = SIZE_EXPONENT,
+                depth_attenuation: float = DEPTH_ATTENUATION) -> np.ndarray:
+    """Relative energy (1) of surface action potentials of units of P0 ``p0_N`` (N) at ``depth`` (fraction of
+    the muscle's thickness, 0 at its surface): P0 ** size_exponent * exp(-depth_attenuation * depth)."""
+    p0 = np.asarray(p0_N, float)
+    z = np.asarray(depth, float)
+    return p0 ** size_exponent * np.exp(-depth_attenuation * z)
+
+
+@dataclass(frozen=True)
+class Identification:
+    """Which model units a decomposition identifies: ``copies`` (muscle units each model unit stands for),
+    ``identified_copies`` (how many of them are identified), ``count`` (their total, the recording's number of
+    units), ``model`` (parameters and seed)."""
+
+    model: IdentificationModel
+    count: int
+    motor_units: int
+    copies: np.ndarray
+    identified_copies: np.ndarray
+
+    @property
+    def units(self) -> np.ndarray:
+        """Indices of the model units with at least one identified copy (ascending)."""
+        return np.flatnonzero(self.identified_copies > 0)
+
+    @property
+    def weights(self) -> np.ndarray:
+        """Identified copies of each of ``units`` (sums to ``count``)."""
+        return self.identified_copies[self.units]
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready: parameters, seed, the count, the identified model units and their weights."""
+        return {"model": self.model.provenance(), "count": self.count, "motor_units": self.motor_units,
+                "units": [int(u) for u in self.units], "weights": [int(w) for w in self.weights]}
+
+
+def identify(p0_N: Sequence[float] | np.ndarray, active: Sequence[bool] | np.ndarray, count: int, *,
+             motor_units: int, model: IdentificationModel | None = None) -> Identification:
+    """The ``count`` muscle units of highest surface energy among the copies of the ``active`` model units
+    (module docstring).  ``p0_N``: every model unit's P0 (N, > 0); ``active``: which of them fire enough to be
+    found; ``motor_units``: the muscle's number of motor units.  InputError when the active units stand for fewer
+    than ``count`` muscle units."""
+    m = model or IdentificationModel()
+    try:
+        p0 = np.asarray(p0_N, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("p0_N must be a 1-D array of numbers (N)") from None
+    if p0.ndim != 1 or not p0.size or not np.all(np.isfinite(p0)) or np.any(p0 <= 0.0):
+        raise InputError(f"p0_N must be a non-empty 1-D array of finite P0 > 0 (N), got {p0_N!r}")
+    act = np.asarray(active)
+    if act.shape != p0.shape or act.dtype != bool:
+        raise InputError(f"active must be a boolean array of the {p0.size} units' shape, got {act.dtype} "
+                         f"{act.shape}")
+    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
+        raise InputError(f"count (units the recording identified) must be a positive integer, got {count!r}")
+    copies = copies_per_unit(p0.size, motor_units)
+    owner = np.repeat(np.arange(p0.size), copies)
+    depth = np.random.default_rng(m.seed).random(owner.size)         # every copy's depth, active or not
+    candidates = np.flatnonzero(act[owner])
+    if count > candidates.size:
+        raise InputError(f"the recording identified {count} units but the pool's {int(act.sum())} active units "
+                         f"stand for only {candidates.size} of the muscle's {motor_units}")
+    energy = muap_energy(p0[owner[candidates]], depth[candidates], size_exponent=m.size_exponent,
+                         depth_attenuation=m.depth_attenuation)
+    chosen = candidates[np.argsort(-energy, kind="stable")[:count]]
+    identified = np.bincount(owner[chosen], minlength=p0.size)
+    return Identification(m, int(count), int(motor_units), copies, identified)
+
+
+def estimate_depth_attenuation(p0_N: np.ndarray, active: np.ndarray, thresholds_percent: np.ndarray,
+                               recorded_thresholds_percent: np.ndarray, *, motor_units: int,
+                               grid: Sequence[float] | None = None, seeds: Sequence[int] = range(20),
+                               size_exponent: float = SIZE_EXPONENT) -> tuple[float, np.ndarray]:
+    """The ``depth_attenuation`` of ``grid`` (default 0-12 by 0.25) whose identified units' recruitment
+    thresholds (``thresholds_percent``, % MVC, one per model unit, NaN when inactive) come closest to the recorded
+    ones (mean Kolmogorov-Smirnov distance over ``seeds``, each identified unit weighted by its copies), the count
+    being the recording's number of units.  Returns (the value, the mean distance at every grid value)."""
+    rec = np.asarray(recorded_thresholds_percent, float)
+    rec = rec[np.isfinite(rec)]
+    thr = np.asarray(thresholds_percent, float)
+    values = np.arange(0.0, 12.001, 0.25) if grid is None else np.asarray(grid, float)
+    if not rec.size or thr.shape != np.shape(p0_N):
+        raise InputError("estimate_depth_attenuation needs recorded thresholds and one model threshold per unit")
+    cost = np.empty(values.size)
+    for k, a in enumerate(values):
+        d = []
+        for s in seeds:
+            ident = identify(p0_N, active, rec.size, motor_units=motor_units,
+                             model=IdentificationModel(float(a), size_exponent, int(s)))
+            d.append(ds.ks_distance(thr[ident.units], rec, ident.weights))
+        cost[k] = float(np.mean(d))
+    return float(values[int(np.argmin(cost))]), cost
+
+
+def main(argv: list[str] | None = None) -> dict[str, Any]:
+    """``python -m neuromuscle.pool.identification FILE.json``: estimate ``depth_attenuation`` on one file's
+    output of ``networks/pool_vs_recorded.py`` (its per-unit table); prints and returns the estimate as JSON."""
+    args = sys.argv[1:] if argv is None else argv
+    if len(args) != 1:
+        raise SystemExit("usage: python -m neuromuscle.pool.identification DIR/<file>.json")
+    row = json.loads(Path(args[0]).read_text())
+    u = row["units"]
+    p0 = np.asarray(u["p0_N"], float)
+    thr = np.asarray([np.nan if x is None else x for x in u["threshold_percent_mvc"]], float)
+    best, cost = estimate_depth_attenuation(p0, np.asarray(u["active"], bool), thr,
+                                            np.asarray(row["recorded_thresholds_percent_mvc"], float),
+                                            motor_units=int(row["identification"]["motor_units"]))
+    grid = np.arange(0.0, 12.001, 0.25)
+    out = {"file": row["file"], "depth_attenuation": best, "mean_ks": float(cost.min()),
+           "mean_ks_by_value": {f"{a:g}": round(float(c), 4) for a, c in zip(grid, cost)}}
+    print(json.dumps(out, indent=1))
+    return out
+
+
+if __name__ == "__main__":
+    main()

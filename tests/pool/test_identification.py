@@ -1,0 +1,124 @@
+"""Which units a decomposition identifies: larger units are identified preferentially, shallower ones too, the
+recording's count is respected, a seed fixes the choice, bad input is refused; the comparison of the identified
+units with recorded ones."""
+
+import numpy as np
+import pytest
+
+from neuromuscle.errors import InputError
+from neuromuscle.pool.discharges import DischargeTrial
+from neuromuscle.pool.identification import (
+    IdentificationModel,
+    copies_per_unit,
+    estimate_depth_attenuation,
+    identify,
+    muap_energy,
+)
+from neuromuscle.pool.recorded_comparison import compare_discharges
+
+P0 = 1.0 + 49.0 * np.linspace(0.0, 1.0, 40) ** 3          # N: most units small, the last ones large
+ACTIVE = np.ones(40, bool)
+
+
+def test_copies_cover_the_muscle():
+    c = copies_per_unit(40, 400)
+    assert c.sum() == 400 and set(c) == {10}
+    c = copies_per_unit(30, 400)
+    assert c.sum() == 400 and c.max() - c.min() <= 1
+
+
+def test_energy_grows_with_size_and_falls_with_depth():
+    e = muap_energy(np.array([1.0, 2.0, 2.0]), np.array([0.0, 0.0, 1.0]), size_exponent=2.0,
+                    depth_attenuation=3.0)
+    assert e[1] == pytest.approx(4.0 * e[0]) and e[2] == pytest.approx(e[1] * np.exp(-3.0))
+
+
+def test_larger_units_are_identified_preferentially():
+    ident = identify(P0, ACTIVE, 40, motor_units=400, model=IdentificationModel(depth_attenuation=4.0, seed=3))
+    per_unit = ident.identified_copies / copies_per_unit(40, 400)
+    small, large = per_unit[:20].mean(), per_unit[20:].mean()
+    assert large > 3.0 * small
+    assert np.mean(ident.units) > 25                                # the sample leans to the late, large units
+
+
+def test_without_depth_the_largest_active_units_are_the_sample():
+    active = np.arange(40) < 30                                     # the last ten units silent
+    ident = identify(P0, active, 25, motor_units=400, model=IdentificationModel(depth_attenuation=0.0))
+    assert ident.identified_copies[29] == 10 and ident.identified_copies[28] == 10
+    assert ident.identified_copies[27] == 5 and ident.identified_copies[:27].sum() == 0
+    assert ident.identified_copies[30:].sum() == 0                  # silent units are never identified
+
+
+def test_strong_depth_attenuation_samples_every_size():
+    ident = identify(P0, ACTIVE, 100, motor_units=400, model=IdentificationModel(depth_attenuation=200.0, seed=1))
+    assert ident.units.size > 30                                    # shallowness dominates: all sizes appear
+
+
+def test_count_is_respected_and_the_seed_fixes_the_choice():
+    for count in (1, 17, 84, 400):
+        ident = identify(P0, ACTIVE, count, motor_units=400, model=IdentificationModel(seed=5))
+        assert ident.weights.sum() == count == ident.count
+        assert np.all(ident.identified_copies <= ident.copies)
+    a = identify(P0, ACTIVE, 30, motor_units=400, model=IdentificationModel(seed=7))
+    b = identify(P0, ACTIVE, 30, motor_units=400, model=IdentificationModel(seed=7))
+    c = identify(P0, ACTIVE, 30, motor_units=400, model=IdentificationModel(seed=8))
+    assert np.array_equal(a.identified_copies, b.identified_copies)
+    assert not np.array_equal(a.identified_copies, c.identified_copies)
+    assert a.summary()["model"]["seed"] == 7 and "depth_attenuation" in a.summary()["model"]
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(p0_N=[1.0, -2.0], active=[True, True], count=3, motor_units=10), "P0 > 0"),
+    (dict(p0_N=[1.0, 2.0], active=[True], count=3, motor_units=10), "boolean array"),
+    (dict(p0_N=[1.0, 2.0], active=[1, 1], count=3, motor_units=10), "boolean array"),
+    (dict(p0_N=[1.0, 2.0], active=[True, True], count=0, motor_units=10), "positive integer"),
+    (dict(p0_N=[1.0, 2.0], active=[True, False], count=6, motor_units=10), "stand for only 5"),
+    (dict(p0_N=[1.0, 2.0], active=[True, True], count=1, motor_units=1), "motor_units must be"),
+])
+def test_bad_input_is_refused(kwargs, match):
+    with pytest.raises(InputError, match=match):
+        identify(**kwargs)
+
+
+@pytest.mark.parametrize("kwargs", [dict(depth_attenuation=-1.0), dict(size_exponent=float("nan")),
+                                    dict(seed=-1), dict(seed=1.5)])
+def test_bad_parameters_are_refused(kwargs):
+    with pytest.raises(InputError):
+        IdentificationModel(**kwargs)
+
+
+def test_the_estimate_finds_the_attenuation_that_made_a_sample():
+    thr = np.linspace(0.5, 60.0, 40)                                # thresholds rising with size, % MVC
+    truth = identify(P0, ACTIVE, 60, motor_units=400, model=IdentificationModel(depth_attenuation=6.0, seed=99))
+    recorded = np.repeat(thr[truth.units], truth.weights)
+    best, cost = estimate_depth_attenuation(P0, ACTIVE, thr, recorded, motor_units=400,
+                                            grid=[0.0, 2.0, 6.0, 30.0, 200.0], seeds=range(10))
+    assert best == 6.0 and cost[2] < cost[0] and cost[2] < cost[4]
+
+
+T = np.arange(0.0, 20001.0, 1.0)
+FORCE = np.interp(T, [0, 4000, 16000, 20000], [0, 30, 30, 0])
+
+
+def _trains(rates_hz, starts_ms):
+    return [np.arange(s, 19000.0 - s / 4, 1000.0 / r) for r, s in zip(rates_hz, starts_ms)]
+
+
+def test_the_comparison_holds_the_identified_units_beside_the_pool():
+    pool = _trains(np.linspace(20.0, 12.0, 20), np.linspace(100.0, 3800.0, 20))
+    rec = pool[-6:]                                                 # a sample of the late-recruited, large units
+    trial = DischargeTrial("made up", 0.0, 20000.0, rec, np.arange(6), T, FORCE)
+    p0 = 1.0 + 29.0 * np.linspace(0.0, 1.0, 20) ** 4
+    c = compare_discharges(trial, pool, T, FORCE, p0_N=p0, motor_units=20,
+                           identification=IdentificationModel(depth_attenuation=0.0, seed=0))
+    s = c.summary()
+    assert s["identified"]["identification"]["count"] == 6
+    assert sum(s["identified"]["identification"]["weights"]) == 6
+    spread = s["identified"]["over_seeds"]["thresholds_ks_median_p5_p95"]
+    assert spread == [0.0, 0.0, 0.0]                                # without depth the seed does not matter
+    whole, found = c.criteria(), c.identified_criteria()
+    assert np.array_equal(c.identified.identification.units, np.arange(14, 20))
+    assert found["thresholds_ks"]["value"] == 0.0 and not whole["thresholds_ks"]["pass"]
+    assert found["medians_inside"]["fraction"] > whole["medians_inside"]["fraction"]
+    with pytest.raises(InputError, match="both p0_N and motor_units"):
+        compare_discharges(trial, pool, T, FORCE, p0_N=p0)
