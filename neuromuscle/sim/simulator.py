@@ -172,7 +172,8 @@ class Simulator:
         from neuron import coreneuron
 
         return {"dt": h.dt, "steps_per_ms": h.steps_per_ms, "secondorder": h.secondorder,
-                "cvode_active": cv.active(), "atol": cv.atol(), "rtol": cv.rtol(), "nthread": pc.nthread(),
+                "condition_order": cv.condition_order(), "cvode_active": cv.active(), "atol": cv.atol(),
+                "rtol": cv.rtol(), "nthread": pc.nthread(),
                 "minstep": cv.minstep(), "local_dt": cv.use_local_dt(),
                 "atolscale": {name: cv.atolscale(name) for name, _ in _registered_states()},
                 "cache_efficient": cv.cache_efficient(), "coreneuron": coreneuron.enable,
@@ -187,6 +188,7 @@ class Simulator:
         pc = h.ParallelContext()
         cv.use_local_dt(saved["local_dt"])
         cv.active(saved["cvode_active"])
+        cv.condition_order(saved["condition_order"])
         cv.minstep(saved["minstep"])
         cv.atol(saved["atol"])
         cv.rtol(saved["rtol"])
@@ -213,6 +215,9 @@ class Simulator:
         cv = h.CVode()
         pc = h.ParallelContext()
         h.secondorder = 0
+        # NEURON's default threshold detection: a caller's interpolated crossings (order 2, honoured under CVODE
+        # only) must not move the package's spike times
+        cv.condition_order(1)
         if pc.nthread() != self.nthread:
             pc.nthread(self.nthread)
         # also under CVODE: stdrun and interval recording use dt and steps_per_ms, so a caller's values must
