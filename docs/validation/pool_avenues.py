@@ -81,12 +81,11 @@ def run(n_units: int, duration_ms: float, fields: dict[str, Any], dt_ms: float, 
          else Drive.rise("current", 20.0, duration_ms)).apply(pool)
         h.CVode().cache_efficient(int(options.get("cache_efficient", False)))
         # NEURON's threshold-crossing interpolation: it acts under CVODE only, the fixed step ignores it
-        h.CVode().condition_order(int(options.get("condition_order", 1)))
+        order = int(options.get("condition_order", 1))
         try:
-            return pool.run(duration_ms, Simulator(dt_ms=dt_ms, engine=engine))
+            return pool.run(duration_ms, Simulator(dt_ms=dt_ms, engine=engine, condition_order=order))
         finally:
             coreneuron.cell_permute = 0
-            h.CVode().condition_order(1)
 
 
 def first_spikes_exact(n_units: int, duration_ms: float, dt_ms: float) -> tuple[np.ndarray, np.ndarray]:

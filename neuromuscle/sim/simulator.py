@@ -95,8 +95,10 @@ class Simulator:
     On several MPI ranks, and with local_dt, CVODE runs by psolve in chunks of ``maxstep_ms``; the wall budget is
     checked between chunks and the step budget does not apply.  ``engine``: "neuron" or "coreneuron" (fixed step
     only; see the module docstring); ``cell_permute`` (CoreNEURON only): 1 interleaves the compartments of its
-    cells so that neighbours in memory are neighbours in the cable (bit-identical to 0, a quarter to a third
-    faster for motoneuron pools), 0 keeps NEURON's order."""
+    cells so that neighbours in memory are neighbours in the cable (bit-identical to 0), 0 keeps NEURON's order;
+    ``condition_order``: NEURON's CVode.condition_order, 1 (a NetCon's threshold crossing at the end of the step
+    that detects it) or 2 (interpolated within the step: under CVODE only; NEURON's and CoreNEURON's fixed step
+    ignore it).  The run uses this value whatever the caller set in NEURON, and restores the caller's after it."""
 
     method: str = "fixed"
     dt_ms: float = 0.025
@@ -112,6 +114,7 @@ class Simulator:
     local_dt: bool = False
     engine: str = "neuron"
     cell_permute: int = 1
+    condition_order: int = 1
 
     def __post_init__(self) -> None:
         if self.method not in ("fixed", "cvode"):
@@ -123,6 +126,9 @@ class Simulator:
                              "method='fixed' or engine='neuron'")
         if self.cell_permute not in (0, 1) or isinstance(self.cell_permute, bool):
             raise InputError(f"cell_permute must be 0 or 1 (CoreNEURON's CPU layouts), got {self.cell_permute!r}")
+        if self.condition_order not in (1, 2) or isinstance(self.condition_order, bool):
+            raise InputError(f"condition_order must be 1 or 2 (NEURON's threshold detection), got "
+                             f"{self.condition_order!r}")
         for name in ("dt_ms", "atol", "rtol", "maxstep_ms"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
@@ -155,6 +161,8 @@ class Simulator:
                "rtol": self.rtol if cv else None, "nthread": self.nthread}
         if self.local_dt:
             out["local_dt"] = True
+        if self.condition_order != 1:
+            out["condition_order"] = self.condition_order
         if self.engine != "neuron":
             out["engine"] = self.engine
             out["cell_permute"] = self.cell_permute
@@ -215,9 +223,7 @@ class Simulator:
         cv = h.CVode()
         pc = h.ParallelContext()
         h.secondorder = 0
-        # NEURON's default threshold detection: a caller's interpolated crossings (order 2, honoured under CVODE
-        # only) must not move the package's spike times
-        cv.condition_order(1)
+        cv.condition_order(self.condition_order)
         if pc.nthread() != self.nthread:
             pc.nthread(self.nthread)
         # also under CVODE: stdrun and interval recording use dt and steps_per_ms, so a caller's values must

@@ -67,17 +67,10 @@ def test_either_coreneuron_layout_is_neurons_bit_for_bit(ct09, cell_permute):
         Simulator(engine="coreneuron", cell_permute=2)
 
 
-def _synaptic_run(definition, simulator, condition_order):
-    from neuron import h
-
-    cv = h.CVode()
-    cv.condition_order(condition_order)
-    try:
-        with Pool(definition, length=-8.0, engine=simulator.engine) as pool:
-            pool.drive_synaptic([0.0, 300.0], [0.0, 0.6])
-            return pool.run(300.0, simulator)
-    finally:
-        cv.condition_order(1)
+def _synaptic_run(definition, simulator):
+    with Pool(definition, length=-8.0, engine=simulator.engine) as pool:
+        pool.drive_synaptic([0.0, 300.0], [0.0, 0.6])
+        return pool.run(300.0, simulator)
 
 
 @pytest.mark.parametrize("engine", ["neuron", "coreneuron"])
@@ -88,16 +81,18 @@ def test_the_fixed_step_does_not_interpolate_threshold_crossings(ct09, engine):
     same pool's spikes do move, so the setting reaches NEURON: if a NEURON release starts interpolating under
     the fixed step, this fails and the fast path's spike timing is worth measuring again."""
     d = PoolDefinition(4, ct09, muscle_model="fused", muscle_substeps=4)
-    sim = Simulator(dt_ms=0.05, engine=engine)
-    first, second = _synaptic_run(d, sim, 1), _synaptic_run(d, sim, 2)
+    first, second = (_synaptic_run(d, Simulator(dt_ms=0.05, engine=engine, condition_order=k)) for k in (1, 2))
     _assert_same(first, second)
     steps = np.concatenate(second.spikes_ms) / 0.05
     assert np.allclose(steps, np.round(steps), rtol=0.0, atol=1e-6)   # every spike at a step's end
     if engine == "neuron":
-        cv1, cv2 = (_synaptic_run(d, Simulator(method="cvode"), order) for order in (1, 2))
+        cv1, cv2 = (_synaptic_run(d, Simulator(method="cvode", condition_order=k)) for k in (1, 2))
         assert [s.size for s in cv1.spikes_ms] == [s.size for s in cv2.spikes_ms]
         moved = max(abs(a[0] - b[0]) for a, b in zip(cv1.spikes_ms, cv2.spikes_ms) if a.size)
         assert 1e-6 < moved < 0.05   # the first spikes, by microseconds (the later ones drift further apart)
+        assert cv2.provenance["settings"]["condition_order"] == 2
+    with pytest.raises(InputError, match="condition_order"):
+        Simulator(condition_order=3)
 
 
 def test_a_run_in_chunks_is_the_run_in_one(ct09, monkeypatch):
