@@ -24,7 +24,7 @@ early-recruited, smaller ones (Caillet et al. 2023).  The model:
 A model pool has fewer units than the muscle: each model unit stands for ``motor_units / n`` units of the muscle
 (``copies_per_unit``), each copy with its own depth, drawn from ``seed``; the identified sample is ``count`` copies,
 and a model unit is identified when one or more of its copies is (``Identification.weights``: how many).  Only
-units active in the trial (firing often enough to be found) are candidates.  Deterministic given the seed.
+units active in the trial (firing often enough to be found) are candidates.  Deterministic given the random seed.
 
 ``depth_attenuation`` (the natural log of the energy ratio of a unit at the muscle's surface to the same unit at its
 deep face) is the one parameter not taken from the literature: ``DEPTH_ATTENUATION`` was estimated on one recording

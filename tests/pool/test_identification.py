@@ -115,7 +115,7 @@ def test_the_comparison_holds_the_identified_units_beside_the_pool():
     assert s["identified"]["identification"]["count"] == 6
     assert sum(s["identified"]["identification"]["weights"]) == 6
     spread = s["identified"]["over_seeds"]["thresholds_ks_median_p5_p95"]
-    assert spread == [0.0, 0.0, 0.0]                                # without depth the seed does not matter
+    assert spread == [0.0, 0.0, 0.0]                                # without depth the random seed does not matter
     whole, found = c.criteria(), c.identified_criteria()
     assert np.array_equal(c.identified.identification.units, np.arange(14, 20))
     assert found["thresholds_ks"]["value"] == 0.0 and not whole["thresholds_ks"]["pass"]
