@@ -46,7 +46,7 @@ from ..errors import InputError
 from ..parameters import load_parameters
 from ..validate import finite_series, positive_number
 from .discharges import DischargeTrial
-from .follow_force import HUMAN_MUSCLES, HumanMuscle
+from .follow_force import HUMAN_MUSCLES, HumanMuscle, p0_spread
 from .human_units import BOUNDS as HUMAN_BOUNDS
 from .human_units import SpeedBases, speed_bases
 from .window_fit import WindowScores, bounded_minimize, window_mask, window_scores
@@ -67,11 +67,32 @@ RATE_LIMITS_HZ = (4.0, 50.0)
 MIN_SLOPE_HZ_PER_PERCENT = 0.02
 #: Sampling step (ms) of rates and excitation.
 STEP_MS = 10.0
-#: Fitted parameters: those of :mod:`.human_units` without the interval weight W.
+#: How the unrecorded units' rates are made (:func:`complete_pool`).
+RATES_FROM = ("neighbours", "excitation")
+#: P0 spread over the pool's ranks, (largest / smallest P0, exponent q) of ``P0 = 1 + (R - 1) rank ** q``: the
+#: spread with which the pool of :data:`.follow_force.HUMAN_MUSCLES` recruits its units at the published thresholds
+#: (calibrated once per muscle, docs/validation/pools_vs_recorded.md; nothing fitted to a recording).
+PUBLISHED_P0_SPREAD = {"TA": (53.0, 12.0), "GM": (106.0, 12.0)}
+#: Where the units' relative force comes from: the muscle's published spread (RP not fitted), or RP ** (th / 100)
+#: with RP fitted as in :mod:`.human_units`.
+P0_FROM = ("published", "fitted")
+#: Fitted parameters: those of :mod:`.human_units` without the interval weight W (RP only with p0_from "fitted").
 BOUNDS = {k: v for k, v in HUMAN_BOUNDS.items() if k != "W"}
 #: Starting points of the search.
 STARTS = ({"S0": 1.0, "RS": 1.5, "RP": 10.0, "delay_ms": 40.0},
           {"S0": 1.6, "RS": 1.2, "RP": 2.0, "delay_ms": 20.0})
+
+
+def published_p0(muscle: str, thresholds_percent_mvc: np.ndarray) -> np.ndarray:
+    """Relative P0 (1 for the first unit of the pool) of units with these recruitment thresholds (% MVC) in
+    ``muscle``'s pool: the rank at which the published distribution reaches the threshold (clipped to 0..1), and
+    :data:`PUBLISHED_P0_SPREAD` there."""
+    if muscle not in PUBLISHED_P0_SPREAD:
+        raise InputError(f"muscle must be one of {', '.join(PUBLISHED_P0_SPREAD)}, got {muscle!r}")
+    rank = np.linspace(0.0, 1.0, 4001)
+    th = HUMAN_MUSCLES[muscle].thresholds(rank)
+    return p0_spread(np.interp(np.asarray(thresholds_percent_mvc, float), th, rank),
+                     *PUBLISHED_P0_SPREAD[muscle])
 
 
 def muscle_of(source: str) -> HumanMuscle:
@@ -183,12 +204,11 @@ def excitation(rates: np.ndarray, active: np.ndarray, thresholds_percent_mvc: np
     return np.maximum(out, 0.0)
 
 
-def synthetic_discharges(e: np.ndarray, t_ms: np.ndarray, threshold_percent_mvc: float, model: RateModel
-                         ) -> np.ndarray:
-    """Discharge times (ms) of a unit of this threshold (% MVC) under excitation ``e`` (% MVC at ``t_ms``):
-    regular at :meth:`RateModel.rate`, the first discharge at each recruitment."""
-    r = model.rate(threshold_percent_mvc, e)
-    on = np.concatenate([[False], r > 0, [False]]).astype(int)
+def discharges_at_rate(rate_hz: np.ndarray, t_ms: np.ndarray) -> np.ndarray:
+    """Regular discharge times (ms) at ``rate_hz`` (Hz at the uniform ``t_ms``, ms; 0: silent), the first at the
+    start of each active stretch."""
+    r = np.asarray(rate_hz, float)
+    on = np.concatenate([[0], (r > 0).astype(int), [0]])
     starts, stops = np.flatnonzero(np.diff(on) == 1), np.flatnonzero(np.diff(on) == -1)
     step = float(t_ms[1] - t_ms[0])
     out = []
@@ -197,6 +217,93 @@ def synthetic_discharges(e: np.ndarray, t_ms: np.ndarray, threshold_percent_mvc:
         times = t_ms[a] + step * np.arange(b - a + 1)
         out.append(np.interp(np.arange(np.floor(phase[-1]) + 1.0), phase, times))
     return np.concatenate(out) if out else np.zeros(0)
+
+
+def synthetic_discharges(e: np.ndarray, t_ms: np.ndarray, threshold_percent_mvc: float, model: RateModel
+                         ) -> np.ndarray:
+    """Discharge times (ms) of a unit of this threshold (% MVC) under excitation ``e`` (% MVC at ``t_ms``):
+    regular at :meth:`RateModel.rate`, the first discharge at each recruitment."""
+    return discharges_at_rate(model.rate(threshold_percent_mvc, e), t_ms)
+
+
+@dataclass(frozen=True)
+class RecordedActivity:
+    """The recorded units in threshold order: thresholds (% MVC), smoothed rates (Hz) and active masks at ``t_ms``
+    (:func:`smoothed_rates`), first and last discharges (ms); the speeds (% MVC per ms) at which recruitment rises
+    and derecruitment falls through the thresholds; the median rate at derecruitment (Hz); the highest threshold
+    the excitation reaches (% MVC)."""
+
+    t_ms: np.ndarray
+    thresholds: np.ndarray
+    rates: np.ndarray
+    active: np.ndarray
+    first_ms: np.ndarray
+    last_ms: np.ndarray
+    rise: float
+    fall: float
+    last_rate_hz: float
+    ceiling: float
+
+
+def recorded_activity(discharges_ms: Sequence[np.ndarray], thresholds_percent_mvc: np.ndarray, t_ms: np.ndarray,
+                      rates: np.ndarray, active: np.ndarray, e: np.ndarray, *, source: str = "discharges"
+                      ) -> RecordedActivity:
+    """:class:`RecordedActivity` of a recording; rise and fall are the slopes of the thresholds against the first
+    and the last discharges (least squares over every unit); the ceiling is the higher of the highest threshold and
+    the top of the excitation ``e`` (% MVC at ``t_ms``).  InputError (naming ``source``) when the thresholds do not
+    rise with the first discharges or fall with the last."""
+    th = np.asarray(thresholds_percent_mvc, float)
+    order = np.argsort(th, kind="stable")
+    first = np.array([d[0] for d in discharges_ms])[order]
+    last = np.array([d[-1] for d in discharges_ms])[order]
+    rise = float(np.polyfit(first, th[order], 1)[0]) if th.size > 1 else 0.0
+    fall = -float(np.polyfit(last, th[order], 1)[0]) if th.size > 1 else 0.0
+    if not (rise > 0 and fall > 0):
+        raise InputError(f"{source}: discharges: the thresholds do not rise with the first discharges and fall "
+                         f"with the last (slopes {rise:.3g}, {-fall:.3g} % MVC per ms): not a ramp contraction")
+    ends = [np.flatnonzero(a)[-1] for a in active[order] if a.any()]
+    last_rate = float(np.median([rates[order][i, k] for i, k in enumerate(ends)])) if ends else RATE_LIMITS_HZ[0]
+    return RecordedActivity(t_ms, th[order], rates[order], active[order], first, last, rise, fall, last_rate,
+                            max(float(th.max()), float(e.max())))
+
+
+def neighbour_rate(threshold_percent_mvc: float, act: RecordedActivity, model: RateModel) -> np.ndarray:
+    """Rate (Hz at ``act.t_ms``, 0 while silent) of an unrecorded unit of this threshold, from the recorded units
+    next to it in threshold.  Between recorded units j and j+1 (fraction f of the way from th_j to th_j+1) it is
+    recruited and derecruited at the times interpolated between theirs, and fires at the f-weighted mean, over
+    those of the two that are active, of ``r_n(t) + k (th_n - th)`` (onion skin: k Hz per % MVC of threshold
+    below).  Below the lowest (above the highest) recorded unit, its first and last discharges are shifted by the
+    threshold difference divided by ``act.rise`` and ``act.fall``; above ``act.ceiling`` it is never recruited.
+    Where no neighbour is active the rate runs linearly in time between the rate at recruitment
+    (:meth:`RateModel.at_recruitment`), the neighbours' values and the rate at derecruitment (``act.last_rate_hz``).
+    Within :data:`RATE_LIMITS_HZ`."""
+    th, t = act.thresholds, act.t_ms
+    x = float(threshold_percent_mvc)
+    if x > act.ceiling:
+        return np.zeros(t.size)
+    if x <= th[0] or th.size == 1:
+        n, w = [0], [1.0]
+        on = act.first_ms[0] - (th[0] - x) / act.rise
+        off = act.last_ms[0] + (th[0] - x) / act.fall
+    elif x >= th[-1]:
+        n, w = [th.size - 1], [1.0]
+        on = act.first_ms[-1] + (x - th[-1]) / act.rise
+        off = act.last_ms[-1] - (x - th[-1]) / act.fall
+    else:
+        j = int(np.clip(np.searchsorted(th, x, side="right") - 1, 0, th.size - 2))
+        f = (x - th[j]) / (th[j + 1] - th[j]) if th[j + 1] > th[j] else 0.5
+        n, w = [j, j + 1], [1.0 - f, f]
+        on = (1.0 - f) * act.first_ms[j] + f * act.first_ms[j + 1]
+        off = (1.0 - f) * act.last_ms[j] + f * act.last_ms[j + 1]
+    window = (t >= on) & (t <= off)
+    if off <= on or not window.any():
+        return np.zeros(t.size)
+    num = sum(wi * act.active[i] * (act.rates[i] + model.k_hz_per_percent * (th[i] - x)) for i, wi in zip(n, w))
+    den = sum(wi * act.active[i] for i, wi in zip(n, w))
+    known = window & (den > 0)
+    at_t = np.concatenate([[on], t[known], [off]])
+    at_r = np.concatenate([model.at_recruitment(np.array([x])), num[known] / den[known], [act.last_rate_hz]])
+    return np.where(window, np.clip(np.interp(t, at_t, at_r), *RATE_LIMITS_HZ), 0.0)
 
 
 def unrecorded_thresholds(pool_percent_mvc: np.ndarray, recorded_percent_mvc: np.ndarray) -> np.ndarray:
@@ -249,12 +356,15 @@ class CompletedPool:
 def complete_pool(trial: DischargeTrial, thresholds_percent_mvc: Sequence[float], recorded: SpeedBases, *,
                   until_ms: float, muscle: HumanMuscle | None = None, dt_ms: float = 0.05,
                   group_width: float = GROUP_WIDTH_PERCENT_MVC, length_mm: float = -8.0,
-                  base_set: str = "CT09", simulate: Callable[..., SpeedBases] | None = None) -> CompletedPool:
+                  base_set: str = "CT09", simulate: Callable[..., SpeedBases] | None = None,
+                  rates_from: str = "neighbours") -> CompletedPool:
     """Complete ``trial``'s recorded units (thresholds in % MVC, their forces ``recorded``) with the unrecorded
     units of ``muscle`` (default: :func:`muscle_of` the trial's file) whose thresholds the excitation reaches; the
     rate model from the recruitment instants before ``until_ms`` (ms).  Simulates one train per group at the grid
     speeds of ``recorded`` (time step ``dt_ms``); ``simulate(trains, duration_ms, speeds)`` replaces that
-    simulation (returns the trains' :class:`SpeedBases` on ``recorded.t_ms``)."""
+    simulation (returns the trains' :class:`SpeedBases` on ``recorded.t_ms``).  ``rates_from``: one of
+    :data:`RATES_FROM` (``neighbours``: :func:`neighbour_rate`; ``excitation``: :meth:`RateModel.rate` under the
+    excitation, recruited only where it exceeds the threshold)."""
     src = trial.source
     th = finite_series(f"{src}: recruitment thresholds", thresholds_percent_mvc)
     if th.size != len(trial.discharges_ms) or recorded.forces.shape[1] != th.size:
@@ -262,6 +372,8 @@ def complete_pool(trial: DischargeTrial, thresholds_percent_mvc: Sequence[float]
                          f"and {recorded.forces.shape[1]} unit forces")
     if np.any(th < 0) or np.any(th > 100):
         raise InputError(f"{src}: recruitment thresholds must lie in 0..100 % MVC, got {th.min():g}..{th.max():g}")
+    if rates_from not in RATES_FROM:
+        raise InputError(f"{src}: rates_from must be one of {', '.join(RATES_FROM)}, got {rates_from!r}")
     muscle = muscle_of(src) if muscle is None else muscle
     t = np.arange(0.0, trial.duration_ms, STEP_MS)
     rates, active = smoothed_rates(trial.discharges_ms, t)
@@ -269,8 +381,14 @@ def complete_pool(trial: DischargeTrial, thresholds_percent_mvc: Sequence[float]
     e = excitation(rates, active, th, t, model)
     pool = muscle.thresholds(np.arange(muscle.motor_units) / (muscle.motor_units - 1))
     rest = unrecorded_thresholds(pool, th)
-    groups = group_thresholds(rest[rest <= e.max()], group_width)
-    trains = [synthetic_discharges(e, t, float(g.mean()), model) for g in groups]
+    if rates_from == "excitation":
+        groups = group_thresholds(rest[rest <= e.max()], group_width)
+        trains = [synthetic_discharges(e, t, float(g.mean()), model) for g in groups]
+    else:
+        act = recorded_activity(trial.discharges_ms, th, t, rates, active, e, source=src)
+        groups = group_thresholds(rest[rest <= act.ceiling], group_width)
+        trains = [discharges_at_rate(neighbour_rate(float(g.mean()), act, model), t) for g in groups]
+    trains = [d[d < trial.duration_ms] for d in trains]
     keep = [i for i, d in enumerate(trains) if d.size > 1]
     groups, trains = [groups[i] for i in keep], [trains[i] for i in keep]
     bases = None
@@ -287,16 +405,23 @@ def complete_pool(trial: DischargeTrial, thresholds_percent_mvc: Sequence[float]
                          muscle.name, trains)
 
 
+def unit_p0(pool: CompletedPool, thresholds_percent_mvc: np.ndarray, params: dict[str, float]) -> np.ndarray:
+    """Relative P0 of units of ``pool`` with these thresholds (% MVC): :func:`published_p0`, or
+    ``RP ** (th / 100)`` when ``params`` holds RP (p0_from "fitted")."""
+    th = np.asarray(thresholds_percent_mvc, float)
+    return params["RP"] ** (th / 100.0) if "RP" in params else published_p0(pool.muscle, th)
+
+
 def pool_force(pool: CompletedPool, params: dict[str, float]) -> np.ndarray:
     """The summed force (before the scale) of every unit of the completed pool under ``params`` (:data:`BOUNDS`
     names) at ``pool.t_ms``: recorded units and each group (its train's force at the group's mean threshold's
-    speed, times the sum of its members' relative forces)."""
+    speed, times the sum of its members' relative forces, :func:`unit_p0`)."""
     p = params
     th = pool.recorded_thresholds
-    total = (p["RP"] ** (th / 100.0)) @ pool.recorded.at(p["S0"] * p["RS"] ** (th / 100.0))
+    total = unit_p0(pool, th, p) @ pool.recorded.at(p["S0"] * p["RS"] ** (th / 100.0))
     if pool.unrecorded is not None:
         mean = np.array([g.mean() for g in pool.groups])
-        weight = np.array([np.sum(p["RP"] ** (g / 100.0)) for g in pool.groups])
+        weight = np.array([np.sum(unit_p0(pool, g, p)) for g in pool.groups])
         total = total + weight @ pool.unrecorded.at(p["S0"] * p["RS"] ** (mean / 100.0))
     return np.interp(pool.t_ms - p["delay_ms"], pool.t_ms, total)
 
@@ -322,9 +447,13 @@ class CompletedPoolFit(WindowScores):
 
 
 def fit_completed_pool(pool: CompletedPool, target: Sequence[float], *, calibration_ms: tuple[float, float],
-                       heldout_ms: tuple[float, float]) -> CompletedPoolFit:
-    """Fit S0, RS, RP, delay (within the priors of :mod:`.human_units`) and the scale to ``target`` (% MVC at
-    ``pool.t_ms``) on ``calibration_ms``; NRMSE there and on ``heldout_ms`` ([start, end) ms)."""
+                       heldout_ms: tuple[float, float], p0_from: str = "published") -> CompletedPoolFit:
+    """Fit S0, RS, delay (and RP with ``p0_from`` "fitted"; one of :data:`P0_FROM`), within the priors of
+    :mod:`.human_units`, and the scale to ``target`` (% MVC at ``pool.t_ms``) on ``calibration_ms``; NRMSE there
+    and on ``heldout_ms`` ([start, end) ms)."""
+    if p0_from not in P0_FROM:
+        raise InputError(f"p0_from must be one of {', '.join(P0_FROM)}, got {p0_from!r}")
+    bounds = BOUNDS if p0_from == "fitted" else {k: v for k, v in BOUNDS.items() if k != "RP"}
     t = pool.t_ms
     y = finite_series("target force", target)
     if y.size != t.size:
@@ -336,7 +465,7 @@ def fit_completed_pool(pool: CompletedPool, target: Sequence[float], *, calibrat
         h = pool_force(pool, p)[cal]
         return float(np.sum((closed_form_scale(h, y[cal]) * h - y[cal]) ** 2))
 
-    best = min((bounded_minimize(cost, s, BOUNDS) for s in STARTS), key=cost)
+    best = min((bounded_minimize(cost, s, bounds) for s in STARTS), key=cost)
     h = pool_force(pool, best)
     scale = closed_form_scale(h[cal], y[cal])
     if scale <= 0:

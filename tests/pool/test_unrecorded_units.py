@@ -11,10 +11,11 @@ from neuromuscle.pool.discharges import DischargeTrial
 from neuromuscle.pool.follow_force import HUMAN_MUSCLES
 from neuromuscle.pool.human_units import SpeedBases
 from neuromuscle.pool.twitch_sum import unit_twitch_force
-from neuromuscle.pool.unrecorded_units import (STEP_MS, CompletedPool, RateModel, complete_pool, excitation,
-                                               fit_completed_pool, fit_rate_model, group_thresholds, muscle_of,
-                                               pool_force, smoothed_rates, synthetic_discharges,
-                                               transferred_pool_force, unrecorded_thresholds)
+from neuromuscle.pool.unrecorded_units import (PUBLISHED_P0_SPREAD, STEP_MS, CompletedPool, RateModel,
+                                               complete_pool, excitation, fit_completed_pool, fit_rate_model,
+                                               group_thresholds, muscle_of, pool_force, published_p0,
+                                               smoothed_rates, synthetic_discharges, transferred_pool_force,
+                                               unrecorded_thresholds)
 
 TRUTH = RateModel(10.0, 0.1, 0.4, (0.0, 100.0))
 DURATION_MS = 17000.0
@@ -101,8 +102,8 @@ def test_completion_recovers_the_unrecorded_units_and_their_force(sample):
     # their discharges: as many as the unrecorded units of the truth fired
     made = sum(g.size * d.size for g, d in zip(pool.groups, pool.group_discharges_ms))
     assert made == pytest.approx(sum(trains[i].size for i in others), rel=0.08)
-    # the truth: every unit of the pool with its own train, S0 1, RS 2, RP 20
-    truth = {"S0": 1.0, "RS": 2.0, "RP": 20.0, "delay_ms": 30.0}
+    # the truth: every unit of the pool with its own train, S0 1, RS 2, P0 as published for TA
+    truth = {"S0": 1.0, "RS": 2.0, "delay_ms": 30.0}
     everyone = twitch_bases(trains, DURATION_MS, SPEEDS)
     full = CompletedPool(active, everyone, [], None, everyone.t_ms, e, TRUTH, "TA")
     target = 0.05 * pool_force(full, truth)
@@ -117,6 +118,23 @@ def test_completion_recovers_the_unrecorded_units_and_their_force(sample):
     assert np.sqrt(np.mean((fitted_unrecorded - unrecorded_truth) ** 2)) < 0.06 * unrecorded_truth.max()
     # carried to its own trial, the fit is its prediction
     assert np.allclose(transferred_pool_force(fit, pool), fit.predicted)
+    assert "RP" not in fit.params     # no relative-force parameter: the published spread
+    # with RP fitted instead, a force made with RP 20 is recovered as well
+    rp_truth = dict(truth, RP=20.0)
+    target = 0.05 * pool_force(full, rp_truth)
+    fit = fit_completed_pool(pool, target, calibration_ms=half, heldout_ms=(half[1], DURATION_MS), p0_from="fitted")
+    assert fit.nrmse_heldout_percent < 5.0 and "RP" in fit.params
+    with pytest.raises(InputError, match="p0_from"):
+        fit_completed_pool(pool, target, calibration_ms=half, heldout_ms=(half[1], DURATION_MS), p0_from="guess")
+
+
+def test_published_p0_grows_with_threshold_to_the_spreads_range():
+    th = np.array([0.0, 10.0, 30.0, 50.0, 90.0])
+    p0 = published_p0("TA", th)
+    assert p0[0] == pytest.approx(1.0) and p0[-1] == pytest.approx(PUBLISHED_P0_SPREAD["TA"][0], rel=1e-3)
+    assert np.all(np.diff(p0) > 0) and p0[2] < 3.0 < p0[3]
+    with pytest.raises(InputError, match="muscle"):
+        published_p0("soleus", th)
 
 
 def test_bad_input_is_refused_naming_file_and_field(sample):
