@@ -2,34 +2,39 @@
 muscle's pool, not only the decomposed ones.
 
 A decomposition identifies a sample of the pool (16-84 units of a few hundred).  Instead of weighting the recorded
-units to stand for the others (:mod:`.human_units`' interval weight W and offset), the pool is completed:
+units to stand for the others (:mod:`.human_units`' interval weight W and offset, fitted to one sample), the pool is
+completed:
 
 1. **Pool.**  The muscle's units and their recruitment thresholds (% MVC) are the published distribution of
    :data:`.follow_force.HUMAN_MUSCLES` (Caillet, Phillips, Farina & Modenese 2022, fitted to published thresholds of
    human tibialis anterior and gastrocnemius medialis; 400 units, the last recruited at 90 % MVC).  Each recorded
    unit takes the place of the pool unit whose threshold is nearest its own (:func:`unrecorded_thresholds`); the
-   rest are the unrecorded units.
-2. **Rates (onion skin).**  A unit recruited at threshold th (% MVC) discharges, while the excitation E (% MVC)
-   exceeds th, at ``rate = a0 + a1 * th + k * (E - th)`` (Hz): its rate at recruitment grows (or falls) with its
-   threshold and every unit's rate grows by k Hz per % MVC of excitation above its threshold, so that at one
-   excitation the lower-threshold units fire faster (De Luca & Hostage 2010, J Neurophysiol 104:1034; De Luca &
-   Contessa 2012, J Neurophysiol 107:178).  a0, a1 and k are read from the recorded discharges alone, at the
-   instants of recruitment of the recorded units, where the force is the recruited unit's threshold
-   (:func:`fit_rate_model`): no force beyond the thresholds is used, and no parameter is fitted to the force.
-   a1 is applied within the recorded thresholds' range (clipped outside it).
-3. **Excitation.**  From the recorded units' smoothed rates (:func:`smoothed_rates`), inverting the same relation:
-   ``E(t)`` is the mean over the active recorded units of ``th_j + (r_j(t) - a(th_j)) / k``
-   (:func:`excitation`).  Before the first and after the last recorded discharge, E is extrapolated linearly in
-   time from the first (last) second of recorded activity, down to 0: the ramps of a trapezoidal contraction.
-4. **Unrecorded units' discharges.**  Every unrecorded unit whose threshold E reaches discharges regularly at the
-   rate of step 2 (:func:`synthetic_discharges`).  To keep the simulation small the unrecorded units are simulated
-   in groups of neighbouring thresholds (at most :data:`GROUP_WIDTH_PERCENT_MVC` % MVC wide,
-   :func:`group_thresholds`): one train per group, at the group's mean threshold, standing for each of its members.
-5. **Forces.**  Every unit, recorded or not, has the twitch speed ``S0 * RS ** (th / 100)`` and relative force
-   ``RP ** (th / 100)`` of :mod:`.human_units` (same priors); the predicted force is
-   ``scale * sum over all units of P0 g(t - delay)``.  No interval weight and no offset: a pool at rest pulls
-   nothing.  Fitted per file on the calibration window: S0, RS, RP, delay (bounded Nelder-Mead from two starts)
-   and the scale (closed form).
+   others are the unrecorded units.
+2. **Their discharges** (:func:`neighbour_rate`, the default): an unrecorded unit between two recorded units in
+   threshold is recruited and derecruited at times interpolated between theirs (below the lowest or above the
+   highest recorded unit: shifted by the threshold difference over the speed at which recruitment and
+   derecruitment sweep the thresholds), and fires at its neighbours' smoothed rates lowered by k Hz per % MVC that
+   its threshold lies above theirs (onion skin: at one excitation the lower-threshold units fire faster; De Luca &
+   Hostage 2010, J Neurophysiol 104:1034; De Luca & Contessa 2012, J Neurophysiol 107:178), regularly.  k and the
+   rate at recruitment (``a0 + a1 th``) are read from the recorded discharges alone at the recruited units'
+   first discharges, where the force is the recruited unit's threshold (:func:`fit_rate_model`): no force beyond
+   the thresholds is used and nothing here is fitted to the force.  No unit is recruited above the highest of the
+   recorded thresholds and the top of the excitation (step 3).  The unrecorded units are simulated in groups of
+   neighbouring thresholds at most :data:`GROUP_WIDTH_PERCENT_MVC` % MVC wide (:func:`group_thresholds`): one
+   train per group, at the group's mean threshold, standing for each member.
+3. **Excitation** (the alternative ``rates_from="excitation"``, and the ceiling of step 2): E(t) (% MVC) is the
+   mean over the active recorded units of ``th_j + (r_j(t) - a(th_j)) / k`` (:func:`excitation`), and every
+   unrecorded unit fires at ``a(th) + k (E - th)`` while E exceeds its threshold.  Rates decline through a
+   plateau and units derecruit at lower rates than they were recruited at, so E sags on the plateau and falls
+   seconds before the force on the descent: this variant loses the descent.
+4. **Forces.**  Every unit, recorded or not, has the twitch speed ``S0 * RS ** (th / 100)`` of
+   :mod:`.human_units` (same priors) and the relative P0 of its rank in the muscle's pool under the spread
+   ``P0 = 1 + (R - 1) rank ** q`` that makes the model pool recruit at the published thresholds
+   (:data:`PUBLISHED_P0_SPREAD`, :func:`published_p0`; most units alike, the last ones up to R times larger, as
+   in the P0 distributions of human TA and GM, Caillet et al. 2022).  ``p0_from="fitted"`` uses ``RP ** (th /
+   100)`` with RP fitted instead.  The predicted force is ``scale * sum over all units of P0 g(t - delay)``: no
+   interval weight and no offset (a pool at rest pulls nothing).  Fitted per file on the calibration window: S0,
+   RS and the delay (bounded Nelder-Mead from two starts, :mod:`.window_fit`) and the scale (closed form).
 
 Units: ms, Hz, % MVC.
 """

@@ -13,7 +13,8 @@ from neuromuscle.pool.human_units import SpeedBases
 from neuromuscle.pool.twitch_sum import unit_twitch_force
 from neuromuscle.pool.unrecorded_units import (PUBLISHED_P0_SPREAD, STEP_MS, CompletedPool, RateModel,
                                                complete_pool, excitation, fit_completed_pool, fit_rate_model,
-                                               group_thresholds, muscle_of, pool_force, published_p0,
+                                               group_thresholds, muscle_of, neighbour_rate, pool_force,
+                                               published_p0, recorded_activity,
                                                smoothed_rates, synthetic_discharges, transferred_pool_force,
                                                unrecorded_thresholds)
 
@@ -153,3 +154,26 @@ def test_bad_input_is_refused_naming_file_and_field(sample):
 def test_muscle_from_the_file_name():
     assert muscle_of("data/GM_30.mat").name == "GM"
     assert muscle_of("S1_30_256.mat").name == muscle_of("TA_35_D.mat").name == "TA"
+
+
+def test_neighbour_rates_sit_between_the_recorded_units_in_time_and_rate(sample):
+    t, e, active, trains, picked, _, trial = sample
+    th = active[picked]
+    rates, on = smoothed_rates(trial.discharges_ms, t)
+    model = fit_rate_model(trial.discharges_ms, th, t, rates, on, until_ms=DURATION_MS)
+    act = recorded_activity(trial.discharges_ms, th, t, rates, on, excitation(rates, on, th, t, model))
+    assert act.rise == pytest.approx(30.0 / 5000.0, rel=0.1) and act.fall == pytest.approx(30.0 / 5000.0, rel=0.1)
+    mid = 0.5 * (th[3] + th[4])
+    r = neighbour_rate(mid, act, model)
+    first = t[np.flatnonzero(r)[0]]
+    assert act.first_ms[3] - STEP_MS <= first <= act.first_ms[4] + STEP_MS
+    plateau = (t > 7000) & (t < 10000)
+    assert np.all(r[plateau] <= rates[3][plateau] + 1e-9) and np.all(r[plateau] >= rates[4][plateau] - 1e-9)
+    # below the lowest recorded unit: recruited earlier, derecruited later, faster; above the ceiling: never
+    low = neighbour_rate(th[0] / 2, act, model)
+    assert t[np.flatnonzero(low)[0]] < act.first_ms[0] and t[np.flatnonzero(low)[-1]] > act.last_ms[0] - STEP_MS
+    assert not neighbour_rate(act.ceiling + 1.0, act, model).any()
+    # a recording whose units are not swept by ramps is refused
+    flat = [np.full(3, d[0]) + [0.0, 50.0, 100.0] for d in trial.discharges_ms[::-1]]
+    with pytest.raises(InputError, match="X_30.mat: discharges: the thresholds do not rise"):
+        recorded_activity(flat, th, t, rates, on, e, source="X_30.mat")
