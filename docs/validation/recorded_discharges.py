@@ -2,11 +2,13 @@
 model and the fitted twitch sum, both calibrated on the first half of the trial, scored on the held-out second half.
 
 Run from the repository root:  python docs/validation/recorded_discharges.py [--data-dir DIR] [--files A.mat,B.mat]
-[--transfer]
+[--transfer] [--pool]
 Prints Markdown (about 7 minutes on one core for the eight files; the same fit as ``neuromuscle discharges``).
 --transfer adds the table across contraction levels: each trial's fit (of its first half, and of the whole trial)
 carried, unchanged, to the other level's trial of the same subject and grid (S1_30_256 and S1_50_256, S1_30_64L and
 S1_50_64L, when both were fitted).
+--pool adds the completed pool (``neuromuscle.pool.unrecorded_units``: the recorded units and the muscle's
+unrecorded ones, P0 from the published spread) to both tables, fitted on the same windows.
 Units: NRMSE in % of the recorded range of the window.
 """
 
@@ -17,8 +19,9 @@ import sys
 import time
 from pathlib import Path
 
-from neuromuscle.pool.cross_level import transfer_nrmse
+from neuromuscle.pool.cross_level import pool_transfer_nrmse, transfer_nrmse
 from neuromuscle.pool.discharge_force import DischargeFits, fit_both, read_discharges
+from neuromuscle.pool.unrecorded_units import CompletedPool, CompletedPoolFit, complete_pool, fit_completed_pool
 from neuromuscle.reports.markdown import table
 
 DATA = Path(__file__).resolve().parents[3] / "shared" / "real_data" / "human_mu_spike_trains_caillet"
@@ -28,16 +31,33 @@ DATA = Path(__file__).resolve().parents[3] / "shared" / "real_data" / "human_mu_
 LEVEL_PAIRS = (("S1_30_256", "S1_50_256"), ("S1_30_64L", "S1_50_64L"))
 
 
-def one_file(path: Path) -> tuple[list[str], DischargeFits]:
-    """The table row of one file, and its fits."""
+Completed = tuple[CompletedPool, CompletedPoolFit]
+
+
+def completed(fits: DischargeFits) -> Completed:
+    """The trial's completed pool (rate model from the calibration window) and its fit on the same windows."""
+    h = fits.human
+    pool = complete_pool(fits.trial, fits.thresholds_percent_mvc, fits.bases, until_ms=h.calibration_ms[1])
+    return pool, fit_completed_pool(pool, fits.recorded, calibration_ms=h.calibration_ms, heldout_ms=h.heldout_ms)
+
+
+def one_file(path: Path, pool: bool = False) -> tuple[list[str], DischargeFits, Completed | None]:
+    """The table row of one file, its fits, and (``pool``) its completed pool and fit."""
     rec = read_discharges(path)
     trial = rec.trial(pad_ms=1000.0)
     t0 = time.time()
     fits = fit_both(trial)
+    done = completed(fits) if pool else None
     print(f"{path.name}: {time.time() - t0:.0f} s", file=sys.stderr)
     human, reference, thresholds = fits.human, fits.reference, fits.thresholds_percent_mvc
     p, lo_hi = human.params, human.intervals
     wins = "human units" if human.nrmse_heldout_percent < reference.nrmse_heldout_percent else "twitch sum"
+    extra = []
+    if done is not None:
+        c = done[1]
+        extra = [f"{c.nrmse_calibration_percent:.1f} / **{c.nrmse_heldout_percent:.1f}**",
+                 f"{81.0 / c.params['S0']:.0f} / {c.params['RS']:.2f} / {c.params['delay_ms']:.0f}",
+                 str(c.n_unrecorded)]
     return [path.stem, str(len(trial.discharges_ms)), f"{rec.level_percent_mvc:g}",
             f"{thresholds.min():.1f}-{thresholds.max():.1f}",
             f"{human.nrmse_calibration_percent:.1f} / **{human.nrmse_heldout_percent:.1f}**",
@@ -45,21 +65,35 @@ def one_file(path: Path) -> tuple[list[str], DischargeFits]:
             f"{81.0 / p['S0']:.0f} [{81.0 / lo_hi['S0'][1]:.0f}, {81.0 / lo_hi['S0'][0]:.0f}]",
             f"{p['RS']:.2f} [{lo_hi['RS'][0]:.2f}, {lo_hi['RS'][1]:.2f}]",
             f"{p['RP']:.1f} [{lo_hi['RP'][0]:.1f}, {lo_hi['RP'][1]:.1f}]",
-            f"{p['W']:.2f} [{lo_hi['W'][0]:.2f}, {lo_hi['W'][1]:.2f}]", f"{p['delay_ms']:.0f}"], fits
+            f"{p['W']:.2f} [{lo_hi['W'][0]:.2f}, {lo_hi['W'][1]:.2f}]", f"{p['delay_ms']:.0f}", *extra], fits, done
 
 
-def transfer_rows(fits: dict[str, DischargeFits]) -> list[list[str]]:
+def transfer_rows(fits: dict[str, DischargeFits], pools: dict[str, Completed] | None = None) -> list[list[str]]:
     """Rows of the table across levels, for every pair of :data:`LEVEL_PAIRS` whose two trials were fitted: each
-    trial's first-half fit and its whole-trial fit (same unit forces) carried to the other trial."""
+    trial's first-half fit and its whole-trial fit (same unit forces; the completed pool's same pool) carried to
+    the other trial."""
     rows = []
     for a, b in LEVEL_PAIRS:
         if a in fits and b in fits:
             whole = {k: fit_both(fits[k].trial, calibration_fraction=1.0, bases=fits[k].bases) for k in (a, b)}
+            whole_pool = {}
+            if pools:
+                for k in (a, b):
+                    end = (0.0, float(fits[k].t_ms[-1]) + 1.0)
+                    whole_pool[k] = fit_completed_pool(pools[k][0], fits[k].recorded, calibration_ms=end,
+                                                       heldout_ms=end)
             for src, dst in ((a, b), (b, a)):
                 for label, source in (("first half", fits[src]), ("whole trial", whole[src])):
                     s = transfer_nrmse(source, fits[dst])
-                    rows.append([f"{src} -> {dst}", label, f"{s['human_units']:.1f}", f"{s['twitch_sum']:.1f}",
-                                 f"{s['human_units_own']:.1f}", f"{s['twitch_sum_own']:.1f}"])
+                    row = [f"{src} -> {dst}", label, f"{s['human_units']:.1f}", f"{s['twitch_sum']:.1f}"]
+                    if pools:
+                        c_src = pools[src][1] if label == "first half" else whole_pool[src]
+                        c = pool_transfer_nrmse(c_src, pools[dst][0], fits[dst].recorded, pools[dst][1])
+                        row.append(f"**{c['completed_pool']:.1f}**")
+                    row += [f"{s['human_units_own']:.1f}", f"{s['twitch_sum_own']:.1f}"]
+                    if pools:
+                        row.append(f"{c['completed_pool_own']:.1f}")
+                    rows.append(row)
     return rows
 
 
@@ -69,20 +103,26 @@ def main(argv: list[str] | None = None) -> str:
     ap.add_argument("--data-dir", default=str(DATA), help="folder of the Caillet .mat files")
     ap.add_argument("--files", default=None, help="comma-separated file names (default: every .mat file)")
     ap.add_argument("--transfer", action="store_true", help="add the table across contraction levels")
+    ap.add_argument("--pool", action="store_true", help="add the completed pool (recorded and unrecorded units)")
     a = ap.parse_args(argv)
     folder = Path(a.data_dir)
     files = ([folder / n for n in a.files.split(",")] if a.files else sorted(folder.glob("*.mat")))
-    done = {f.stem: one_file(f) for f in files}
-    rows = [row for row, _ in done.values()]
+    done = {f.stem: one_file(f, a.pool) for f in files}
+    rows = [row for row, _, _ in done.values()]
     header = ["file", "units", "level (% MVC)", "thresholds (% MVC)", "human units: NRMSE cal. / held-out (%)",
               "twitch sum: NRMSE cal. / held-out (%)", "lower held-out", "contraction time at 0 % MVC (ms)", "RS",
               "RP", "W", "delay (ms)"]
+    if a.pool:
+        header += ["completed pool: NRMSE cal. / held-out (%)", "completed pool: contraction time at 0 % MVC (ms) / RS "
+                   "/ delay (ms)", "unrecorded units"]
     text = "\n".join(table(header, rows))
     if a.transfer:
-        text += "\n\n" + "\n".join(table(
-            ["calibrated on -> predicted", "calibration window", "human units: NRMSE (%)", "twitch sum: NRMSE (%)",
-             "human units, target's own fit", "twitch sum, target's own fit"],
-            transfer_rows({k: v for k, (_, v) in done.items()})))
+        pools = {k: c for k, (_, _, c) in done.items()} if a.pool else None
+        head = ["calibrated on -> predicted", "calibration window", "human units: NRMSE (%)", "twitch sum: NRMSE (%)"]
+        head += ["completed pool: NRMSE (%)"] if a.pool else []
+        head += ["human units, target's own fit", "twitch sum, target's own fit"]
+        head += ["completed pool, target's own fit"] if a.pool else []
+        text += "\n\n" + "\n".join(table(head, transfer_rows({k: v for k, (_, v, _) in done.items()}, pools)))
     print(text)
     return text
 

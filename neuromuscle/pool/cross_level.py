@@ -3,7 +3,9 @@ whole of another trial of the same muscle, with every fitted value (scale and of
 
 The human units carry over through the recruitment threshold in % MVC: the target's units take the speed and
 force that the source's fit gives their thresholds (each trial's force normalised to its own level, so % MVC is
-shared).  The twitch sum carries over through the recruitment rank (its x), which is all it has.  Score: NRMSE (% of
+shared).  The twitch sum carries over through the recruitment rank (its x), which is all it has.  The completed
+pool (:mod:`.unrecorded_units`) carries over its fitted speeds, delay and scale; the target's unrecorded units come
+from the target's own discharges and the muscle's published pool.  Score: NRMSE (% of
 the target's recorded range) over the whole target trial.  Units: ms, % MVC.
 """
 
@@ -15,6 +17,7 @@ from ..analysis.metrics import nrmse_percent
 from .discharge_force import DischargeFits, recruitment_rank
 from .human_units import relative_force
 from .twitch_sum import twitch_sum_basis
+from .unrecorded_units import CompletedPool, CompletedPoolFit, transferred_pool_force
 
 
 def transferred_predictions(source: DischargeFits, target: DischargeFits) -> tuple[np.ndarray, np.ndarray]:
@@ -36,3 +39,11 @@ def transfer_nrmse(source: DischargeFits, target: DischargeFits) -> dict[str, fl
     return {"human_units": nrmse_percent(y, human), "twitch_sum": nrmse_percent(y, twitch),
             "human_units_own": nrmse_percent(y, target.human.predicted),
             "twitch_sum_own": nrmse_percent(y, target.reference.predicted)}
+
+
+def pool_transfer_nrmse(source: CompletedPoolFit, target: CompletedPool, recorded: np.ndarray,
+                        own: CompletedPoolFit) -> dict[str, float]:
+    """NRMSE (%) over the whole target trial (``recorded``, % MVC at ``target.t_ms``) of the completed pool
+    calibrated on ``source``, and of the target's own fit ``own``."""
+    return {"completed_pool": nrmse_percent(recorded, transferred_pool_force(source, target)),
+            "completed_pool_own": nrmse_percent(recorded, own.predicted)}

@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 
 from neuromuscle.analysis.metrics import nrmse_percent
-from neuromuscle.pool.cross_level import transfer_nrmse, transferred_predictions
+from neuromuscle.pool.cross_level import pool_transfer_nrmse, transfer_nrmse, transferred_predictions
 from neuromuscle.pool.discharge_force import fit_both, read_discharges
+from neuromuscle.pool.unrecorded_units import complete_pool, fit_completed_pool, transferred_pool_force
 
 
 @pytest.fixture(scope="module")
@@ -45,3 +46,20 @@ def test_whole_trial_fit_reuses_the_bases_and_has_no_held_out_time(two_levels):
     # fitted on all of it, it describes its own trial at least as well as the first-half fit does
     assert whole.human.nrmse_calibration_percent <= nrmse_percent(high.recorded, high.human.predicted) + 1e-6
     assert transfer_nrmse(whole, low)["human_units"] > 0.0
+
+
+def test_completed_pool_carries_its_fit_and_completes_the_target_from_its_own_discharges(two_levels):
+    high, low = two_levels
+    pools = {}
+    for k, f in (("high", high), ("low", low)):
+        pool = complete_pool(f.trial, f.thresholds_percent_mvc, f.bases, until_ms=f.human.calibration_ms[1],
+                             dt_ms=0.1)
+        pools[k] = pool, fit_completed_pool(pool, f.recorded, calibration_ms=f.human.calibration_ms,
+                                            heldout_ms=f.human.heldout_ms)
+    own = pool_transfer_nrmse(pools["high"][1], pools["high"][0], high.recorded, pools["high"][1])
+    assert own["completed_pool"] == pytest.approx(own["completed_pool_own"])
+    s = pool_transfer_nrmse(pools["high"][1], pools["low"][0], low.recorded, pools["low"][1])
+    assert s["completed_pool"] == pytest.approx(nrmse_percent(low.recorded, transferred_pool_force(
+        pools["high"][1], pools["low"][0])))
+    # the lower trial recruits fewer of the pool's units
+    assert pools["low"][0].n_unrecorded < pools["high"][0].n_unrecorded
