@@ -57,6 +57,8 @@ SIZE_EXPONENT = 2.0
 DEPTH_ATTENUATION = 1.75
 #: Seed of the units' depths.
 DEFAULT_SEED = 0
+#: The depth attenuations ``estimate_depth_attenuation`` tries by default (1).
+DEPTH_GRID = np.arange(0.0, 12.001, 0.25)
 
 
 @dataclass(frozen=True)
@@ -173,7 +175,7 @@ def estimate_depth_attenuation(p0_N: np.ndarray, active: np.ndarray, thresholds_
     rec = np.asarray(recorded_thresholds_percent, float)
     rec = rec[np.isfinite(rec)]
     thr = np.asarray(thresholds_percent, float)
-    values = np.arange(0.0, 12.001, 0.25) if grid is None else np.asarray(grid, float)
+    values = DEPTH_GRID if grid is None else np.asarray(grid, float)
     if not rec.size or thr.shape != np.shape(p0_N):
         raise InputError("estimate_depth_attenuation needs recorded thresholds and one model threshold per unit")
     cost = np.empty(values.size)
@@ -193,16 +195,23 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     args = sys.argv[1:] if argv is None else argv
     if len(args) != 1:
         raise SystemExit("usage: python -m neuromuscle.pool.identification DIR/<file>.json")
-    row = json.loads(Path(args[0]).read_text())
-    u = row["units"]
-    p0 = np.asarray(u["p0_N"], float)
-    thr = np.asarray([np.nan if x is None else x for x in u["threshold_percent_mvc"]], float)
-    best, cost = estimate_depth_attenuation(p0, np.asarray(u["active"], bool), thr,
-                                            np.asarray(row["recorded_thresholds_percent_mvc"], float),
-                                            motor_units=int(row["identification"]["motor_units"]))
-    grid = np.arange(0.0, 12.001, 0.25)
-    out = {"file": row["file"], "depth_attenuation": best, "mean_ks": float(cost.min()),
-           "mean_ks_by_value": {f"{a:g}": round(float(c), 4) for a, c in zip(grid, cost)}}
+    path = Path(args[0])
+    try:
+        row = json.loads(path.read_text())
+        u = row["units"]
+        p0 = np.asarray(u["p0_N"], float)
+        thr = np.asarray([np.nan if x is None else x for x in u["threshold_percent_mvc"]], float)
+        active = np.asarray(u["active"], bool)
+        recorded = np.asarray(row["recorded_thresholds_percent_mvc"], float)
+        motor_units = int(row["identification"]["motor_units"])
+    except (OSError, ValueError) as exc:
+        raise InputError(f"{path}: not a readable JSON file of networks/pool_vs_recorded.py ({exc})") from None
+    except (KeyError, TypeError) as exc:
+        raise InputError(f"{path}: field {exc} missing or malformed: give a per-file JSON written by "
+                         "networks/pool_vs_recorded.py") from None
+    best, cost = estimate_depth_attenuation(p0, active, thr, recorded, motor_units=motor_units)
+    out = {"file": row.get("file", str(path)), "depth_attenuation": best, "mean_ks": float(cost.min()),
+           "mean_ks_by_value": {f"{a:g}": round(float(c), 4) for a, c in zip(DEPTH_GRID, cost)}}
     print(json.dumps(out, indent=1))
     return out
 

@@ -122,3 +122,29 @@ def test_the_comparison_holds_the_identified_units_beside_the_pool():
     assert found["medians_inside"]["fraction"] > whole["medians_inside"]["fraction"]
     with pytest.raises(InputError, match="both p0_N and motor_units"):
         compare_discharges(trial, pool, T, FORCE, p0_N=p0)
+
+
+def test_the_command_estimates_from_a_run_file_and_names_a_bad_one(tmp_path, capsys):
+    """``python -m neuromuscle.pool.identification FILE.json``: an estimate from a per-file JSON; a file without
+    the per-unit table is refused naming the file and the field."""
+    import json
+
+    from neuromuscle.pool import identification
+
+    p0 = np.linspace(1.0, 10.0, 20)
+    thresholds = np.linspace(1.0, 30.0, 20)
+    row = {"file": "X.mat", "units": {"p0_N": p0.tolist(), "threshold_percent_mvc": thresholds.tolist(),
+                                      "active": [True] * 20},
+           "recorded_thresholds_percent_mvc": thresholds[-6:].tolist(), "identification": {"motor_units": 100}}
+    good = tmp_path / "X.json"
+    good.write_text(json.dumps(row))
+    out = identification.main([str(good)])
+    assert out["file"] == "X.mat" and out["depth_attenuation"] in identification.DEPTH_GRID
+    assert json.loads(capsys.readouterr().out)["mean_ks"] == out["mean_ks"]
+    del row["units"]["active"]
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(row))
+    with pytest.raises(InputError, match=r"bad\.json: field 'active'"):
+        identification.main([str(bad)])
+    with pytest.raises(InputError, match="missing.json"):
+        identification.main([str(tmp_path / "missing.json")])
