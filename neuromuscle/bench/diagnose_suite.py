@@ -188,9 +188,11 @@ def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
 
 
 def _evidence_row(ev: Evidence) -> dict[str, Any]:
-    """A candidate's evidence in a suite row: gains, excess, window and the rules it failed."""
+    """A candidate's evidence in a suite row: gains (held-out and calibration), excess, window and the rules it
+    failed."""
     share, window, own = ev.share_of_baseline_excess, ev.window_chi2_gain, ev.own_share
-    return {"chi2_gain": round(ev.chi2_gain, 1), "score": round(ev.score, 1), "excess": round(ev.excess, 1),
+    return {"chi2_gain": round(ev.chi2_gain, 1), "calibration_chi2_gain": round(ev.calibration_chi2_gain, 1),
+            "score": round(ev.score, 1), "excess": round(ev.excess, 1),
             "excess_removed": round(ev.excess_removed, 3),
             "share_of_baseline_excess": None if share is None else round(share, 3),
             "own_share": None if own is None else round(own, 3),

@@ -26,10 +26,14 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bf.add_argument("--params", default="CT09")
     bf.add_argument("--json", action="store_true")
     bf.set_defaults(func=run)
-    bd = bsub.add_parser("diagnose", help="wall time of one full diagnosis of a synthetic null file (the world "
-                                          "--world, by default B: 36 trials) and of its baseline calibration alone")
+    bd = bsub.add_parser("diagnose", help="wall time of one full diagnosis of a synthetic file (a null, or one "
+                                          "hiding --cause; the world --world, by default B: 36 trials) and of its "
+                                          "baseline calibration alone")
     bd.add_argument("--workers", type=int, default=2)
     bd.add_argument("--world", default="B", help="the world of the single file (neuromuscle synth --list)")
+    bd.add_argument("--cause", default=None, help="the single file's hidden cause (neuromuscle synth --list; "
+                                                  "default: none, a null)")
+    bd.add_argument("--strength", type=float, default=0.7, help="with --cause: its strength, 0-1 of its range")
     bd.add_argument("--suite", type=int, default=None, metavar="N",
                     help="instead: N synthetic preparations per cause and world (every canonical cause, the "
                          "out-of-catalogue effect, none) diagnosed blind; rates per cause and world (2-5 min a "
@@ -169,7 +173,11 @@ def run_diagnose(args: argparse.Namespace) -> int:
             args.two_effect:
         raise InputError("--causes, --journal, --first, --two-effect and --separability need --suite")
     world(args.world)  # an unknown world refused before any work
-    _print(bench_diagnose(args.workers, args.world), args.json)
+    if args.cause is not None:
+        from ..synth.dataset import hidden_effects
+
+        hidden_effects(args.cause, args.strength)
+    _print(bench_diagnose(args.workers, args.world, args.cause, args.strength), args.json)
     return 0
 
 

@@ -54,8 +54,10 @@ def _number(label: str, v: Any, lo: float, hi: float) -> float:
     return float(v)
 
 
-def _effects(cause: str | None, strength: float, also: Mapping[str, float] | None) -> list[tuple[str, float]]:
-    """The hidden effects as (name, strength), checked: the first from cause/strength, then ``also``."""
+def hidden_effects(cause: str | None, strength: float,
+                   also: Mapping[str, float] | None = None) -> list[tuple[str, float]]:
+    """The hidden effects as (name, strength 0-1), checked (InputError names the bad one): the first from
+    cause/strength, then ``also``."""
     if cause is not None and not isinstance(cause, str):
         raise InputError(f"cause must be a cause name or None, got {cause!r}")
     out = [] if cause in (None, "none") else [(cause, _number("strength", strength, 0.0, 1.0))]
@@ -182,7 +184,7 @@ def make_dataset(cause: str | None, strength: float, seed: int, noise_pct: float
     dt_ms: the fixed step (ms) of the NEURON runs.  workers: processes simulating trials.  trials: ids of a subset
     of the protocol set (all when None).  The truth (causes, strengths, parameters, world) goes into ``/synth``.
     """
-    effects = _effects(cause, strength, also)
+    effects = hidden_effects(cause, strength, also)
     _check_settings(seed, noise_pct, noise_tau_ms, workers)
     w = find_world(world)
     w = w.with_settings(base=base or w.base, protocols=protocols or w.protocols)

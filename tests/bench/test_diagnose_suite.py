@@ -88,7 +88,9 @@ def test_score_counts_hits_false_alarms_wrong_names_and_pairs():
                                            (["--two-effect", "2"], "need --suite"),
                                            (["--separability"], "need --suite"),
                                            (["--suite", "1", "--first", "13"], "between 1 and 12"),
-                                           (["--world", "Z"], "unknown world")])
+                                           (["--world", "Z"], "unknown world"),
+                                           (["--cause", "gout"], "gout"),
+                                           (["--cause", "fatigue", "--strength", "2"], "strength")])
 def test_bad_suite_arguments_are_refused_before_any_work(argv, message, capsys):
     assert main(["bench", "diagnose", *argv]) != 0
     assert message in capsys.readouterr().err
