@@ -23,11 +23,6 @@ from .evidence import STRUCTURE_RATIO, Evidence
 MIN_EXCESS_REMOVED_DIFFUSE = 0.5
 #: R4: the least share of the held-out error above noise a named cause removes.
 MIN_EXCESS_REMOVED = 0.25
-#: R4 for a cause named after others, which rule R8 also asks to keep most of its own gain.  The error left after
-#: a first cause holds what that cause's extension, never exactly the data's form, leaves of it; a second cause's
-#: share of that error is diluted by it (real second causes: 14-24 % on the development worlds), while a candidate
-#: that takes up the leftover is the one R8 stops.
-MIN_EXCESS_REMOVED_AFTER_OTHERS = 0.1
 #: R8: a cause named after others keeps at least this share of the held-out gain it has alone at the baseline.
 MIN_OWN_SHARE = 0.5
 #: R6: a model leaves structure at rest when at least max(REST_MIN_TRIALS, REST_MIN_FRACTION x trials with a
@@ -83,11 +78,10 @@ def _robust(e: Evidence) -> str | None:
 
 
 def _material(e: Evidence) -> str | None:
-    least = MIN_EXCESS_REMOVED_AFTER_OTHERS if e.after_others else MIN_EXCESS_REMOVED
-    if e.excess_removed >= least:
+    if e.excess_removed >= MIN_EXCESS_REMOVED:
         return None
-    return (f"removes {100 * e.excess_removed:.0f} % < {100 * least:.0f} % of the held-out error above noise"
-            + (" (a cause named after others)" if e.after_others else ""))
+    return (f"removes {100 * e.excess_removed:.0f} % < {100 * MIN_EXCESS_REMOVED:.0f} % of the held-out error "
+            "above noise")
 
 
 def _nrmse_falls(e: Evidence) -> str | None:
@@ -146,9 +140,7 @@ RULES: tuple[Rule, ...] = (
          "p ln(N_eff)", _beyond_noise),
     Rule("R3", "robust", "the 5th percentile of a moving-block bootstrap of the held-out gain is above 0", _robust),
     Rule("R4", "material",
-         f"the candidate removes at least {100 * MIN_EXCESS_REMOVED:.0f} % of the held-out error above noise "
-         f"({100 * MIN_EXCESS_REMOVED_AFTER_OTHERS:.0f} % of the error left for a cause named after others, which "
-         "R8 also judges: the error left holds what the causes before it leave of their own effects)",
+         f"the candidate removes at least {100 * MIN_EXCESS_REMOVED:.0f} % of the held-out error above noise",
          _material),
     Rule("R5", "better where a physiologist looks", "the mean held-out NRMSE (eq 17) falls", _nrmse_falls),
     Rule("R6", "nothing left at rest",

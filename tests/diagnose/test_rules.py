@@ -59,18 +59,6 @@ def test_a_small_change_of_a_calibration_misfit_is_not_material():
     assert "R4" in ev.failed and not ev.passed
 
 
-def test_a_cause_named_after_others_is_material_at_a_smaller_share_of_the_error_left():
-    """R4: the same candidate, removing about 15 % of the held-out error above noise, is not material as a first
-    cause but is after others (where R8 also judges it)."""
-    ids, meas, before, after, noise = _case(np.random.default_rng(1), 0.0, 0.3, 0.08)
-    ev = judge(ids, meas, before, after, noise, 2, ["x.k"], window=_everywhere(ids))
-    assert 0.1 < ev.excess_removed < 0.25, ev.excess_removed
-    assert "R4" in ev.failed
-    ev.after_others = True
-    apply_rules(ev)
-    assert "R4" not in ev.failed
-
-
 def test_something_to_explain():
     """R0: a model before at its noise floor on every held-out trial leaves nothing to explain when a candidate
     takes up less than half of the excess; one structured held-out trial is enough."""
