@@ -14,7 +14,8 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    (:func:`trades_off_with_length`);
 3. **fit** (:func:`.models.fit_model`): M plus the candidate, the candidate's own parameters and the baseline
    parameters it interacts with free (:func:`refitted`), from M and from M with those baseline parameters put back
-   at the base set's values;
+   at the base set's values; a fit that ends above M's calibration chi-square (worse than the model it contains)
+   is fitted again from M itself, the extension neutral (:func:`fit_candidate`);
 4. **evidence** (:mod:`.evidence`) on the held-out trials against M, and the rules (:mod:`.rules`); a candidate
    that passes every other rule after causes were named is also set beside its own fit at the baseline
    (:func:`alone_at_baseline`), and must keep most of the held-out gain it has there (rule R8).  Where the
@@ -295,11 +296,30 @@ def alone_at_baseline(ctx: Context, name: str) -> FittedModel:
     fitted there, else fitted now as it would have been (module docstring, step 3)."""
     if name not in ctx.alone:
         ctx.say(f"  fitting {ctx.baseline.name} + {name} (its gain alone, rule R8)")
-        ctx.alone[name] = fit_model(ctx.baseline.extensions + (name,), refitted(ctx, name),
-                                    _starts(ctx, name, ctx.baseline, None), ctx.calibration_trials, ctx.trials,
-                                    ctx.noise, pool=ctx.pool, fixed_extensions=ctx.baseline.extensions,
-                                    tolerance=CANDIDATE_TOLERANCE)
+        ctx.alone[name] = fit_candidate(ctx, name, ctx.baseline, None)
     return ctx.alone[name]
+
+
+def fit_candidate(ctx: Context, name: str, before: FittedModel, screened: Screen | None) -> FittedModel:
+    """Model ``before`` plus candidate ``name``, fitted from its starts (:func:`_starts`).  The model contains the
+    model before (the extension at its neutral values), so its calibration chi-square can be no higher; when the
+    fit stops above it (its starts far from the data's form and the candidate's iterations spent), it is fitted
+    again from the model before itself, the extension at its neutral values, and the better fit is kept: a
+    candidate is never judged worse than a model it contains."""
+    ext = extension_class(name)
+    fit = dict(extensions=before.extensions + (name,), baseline_free=refitted(ctx, name),
+               calibration=ctx.calibration_trials, all_trials=ctx.trials, noise=ctx.noise, pool=ctx.pool,
+               fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE)
+    model = fit_model(starts=_starts(ctx, name, before, screened), **fit)
+    floor = calibration_chi2(ctx, before.simulated)
+    if model.cost <= floor:
+        return model
+    neutral = {ext.qualified(p.name): p.neutral for p in ext.parameters if p.neutral is not None}
+    values = {**extension_defaults(name), **(screened.time_constants if screened is not None else {}), **neutral}
+    ctx.say(f"    {name}: its fit ends above the model before's calibration chi-square ({model.cost:.1f} > "
+            f"{floor:.1f}); fitting again from the model before, the extension neutral")
+    again = fit_model(starts={"model before, neutral": before.parameters.with_values(values)}, **fit)
+    return again if again.cost < model.cost else model
 
 
 def _starts(ctx: Context, name: str, before: FittedModel, screened: Screen | None) -> dict[str, ParameterSet]:
@@ -410,9 +430,7 @@ def step(ctx: Context, index: int, before: FittedModel, max_fits: int = MAX_FITS
 def fit_alone(ctx: Context, c: Candidate, before: FittedModel) -> None:
     """Fit candidate ``c`` on ``before`` (module docstring, step 3) and judge it (step 4), in place."""
     ctx.say(f"  fitting {before.name} + {c.name}")
-    c.model = fit_model(before.extensions + (c.name,), refitted(ctx, c.name), _starts(ctx, c.name, before, c.screen),
-                        ctx.calibration_trials, ctx.trials, ctx.noise, pool=ctx.pool,
-                        fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE)
+    c.model = fit_candidate(ctx, c.name, before, c.screen)
     if before is ctx.baseline:
         ctx.alone[c.name] = c.model
     c.evidence = judge(ctx, c.name, before, c.model, c.telling_heldout)

@@ -102,21 +102,50 @@ def test_a_candidates_fit_at_the_baseline_is_kept_as_its_gain_alone(monkeypatch)
     later is fitted alone at the baseline once."""
     fits = []
 
-    def fake_fit(extensions, free, starts, *args, **kwargs):
+    def fake_fit(extensions, baseline_free, starts, *args, **kwargs):
         fits.append(tuple(extensions))
-        return SimpleNamespace(name=" + ".join(extensions), start="model before", extensions=tuple(extensions))
+        return SimpleNamespace(name=" + ".join(extensions), start="model before", extensions=tuple(extensions),
+                               cost=1.0)
 
     monkeypatch.setattr(selection, "fit_model", fake_fit)
+    monkeypatch.setattr(selection, "calibration_chi2", lambda ctx, simulated: 2.0)
     monkeypatch.setattr(selection, "judge", lambda ctx, name, before, model, held: evidence())
     monkeypatch.setattr(selection, "_starts", lambda ctx, name, before, screened: {})
-    baseline = SimpleNamespace(name="baseline", extensions=())
+    baseline = SimpleNamespace(name="baseline", extensions=(), simulated={})
     ctx = SimpleNamespace(baseline=baseline, alone={}, baseline_free=(), calibration_trials=[], trials=[], noise={},
                           pool=None, say=lambda text: None)
     fit_alone(ctx, Candidate("staircase", ["cal"], ["held"]), baseline)
     assert set(ctx.alone) == {"staircase"} and fits == [("staircase",)]
-    later = SimpleNamespace(name="baseline + staircase", extensions=("staircase",))
+    later = SimpleNamespace(name="baseline + staircase", extensions=("staircase",), simulated={})
     fit_alone(ctx, Candidate("fatigue", ["cal"], ["held"]), later)
     assert set(ctx.alone) == {"staircase"}  # fitted after a named cause: not its gain alone
     assert alone_at_baseline(ctx, "staircase") is ctx.alone["staircase"] and len(fits) == 2
     assert alone_at_baseline(ctx, "fatigue").extensions == ("fatigue",) and len(fits) == 3
     assert alone_at_baseline(ctx, "fatigue") is ctx.alone["fatigue"] and len(fits) == 3
+
+
+@pytest.mark.parametrize("first_cost, refitted", [(90.0, False), (120.0, True)])
+def test_a_candidate_whose_fit_ends_above_the_model_it_contains_is_fitted_again_from_that_model(
+        monkeypatch, first_cost, refitted):
+    """The model before is the candidate's model with the extension neutral: a fit that ends above its
+    calibration chi-square (100 here) is fitted again from it, the extension's effect parameters at their neutral
+    values, and the better fit is kept."""
+    fits: list[dict] = []
+
+    def fake_fit(extensions, baseline_free, starts, *args, **kwargs):
+        fits.append(dict(starts))
+        return SimpleNamespace(cost=first_cost if len(fits) == 1 else 100.0)
+
+    monkeypatch.setattr(selection, "fit_model", fake_fit)
+    monkeypatch.setattr(selection, "calibration_chi2", lambda ctx, simulated: 100.0)
+    before = SimpleNamespace(name="baseline", extensions=(), simulated={}, parameters=load_parameters("CT09"))
+    ctx = SimpleNamespace(baseline=before, alone={}, baseline_free=("P0",), calibration_trials=[], trials=[],
+                          noise={}, pool=None, base=load_parameters("CT09"), say=lambda text: None)
+    got = selection.fit_candidate(ctx, "fatigue", before, None)
+    assert len(fits) == (2 if refitted else 1)
+    if refitted:
+        (how, start), = fits[1].items()
+        assert how == "model before, neutral" and start["fatigue.k"] == 0.0
+        assert got.cost == 100.0
+    else:
+        assert got.cost == first_cost
