@@ -192,6 +192,10 @@ def fit_model(extensions: Sequence[str], baseline_free: Sequence[str], starts: M
     converged = "max_iterations" not in res.message
     name = " + ".join(("baseline",) + exts)
     params = ParameterSet(name, res.parameters.values, f"fitted on the calibration trials from the {how} start")
-    sims = simulate_all(params, all_trials, exts, options, pool)
+    # the calibration trials were simulated at these parameters by the fit itself: only the others are run
+    known = res.simulated
+    rest = [t for t in all_trials if t.trial_id not in known]
+    more = simulate_all(params, rest, exts, options, pool) if rest else {}
+    sims = {t.trial_id: known[t.trial_id] if t.trial_id in known else more[t.trial_id] for t in all_trials}
     return FittedModel(exts, params, tuple(free), res, sims, how, costs, converged, res.message,
                        time.perf_counter() - t0)

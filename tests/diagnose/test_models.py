@@ -53,6 +53,9 @@ def test_the_better_start_continues_and_convergence_is_stated(faster_release):
     assert m.start_costs["near"] < m.start_costs["far"]
     assert m.free == ("C1", "tau2") and m.extensions == ()
     assert m.converged and "max_iterations" not in m.message
+    again = simulate_all(m.parameters, trials, ())  # the calibration trials' forces are the fit's own
+    assert list(m.simulated) == [t.trial_id for t in trials]
+    assert all(np.array_equal(m.simulated[i], again[i]) for i in again)
     short = fit_model((), ("C1", "tau2"), {"far": far}, trials[:3], trials, noise, max_iterations=1)
     assert not short.converged and "max_iterations" in short.message
     same = fit_model((), ("C1",), {"a": ct09, "b": ct09.with_values(tau2=40.0)}, trials[:2], trials[:2], noise,
