@@ -60,12 +60,19 @@ def test_represented_gaps_tile_the_thresholds_from_zero():
     assert represented_gaps(np.array([5.0, 5.0 + 1e-9]))[1] == MIN_GAP_PERCENT_MVC
 
 
+def _clean_force(bases, th, truth, scale, offset):
+    """The model's force (N) of units at thresholds ``th`` under parameters ``truth``, times ``scale`` plus
+    ``offset``, delayed by truth["delay_ms"]: what a fit should recover."""
+    speed, p0 = unit_properties(th, truth["S0"], truth["RS"], truth["RP"], truth["W"])
+    t = bases.t_ms
+    return np.interp(t - truth["delay_ms"], t, scale * p0 @ bases.at(speed)) + offset
+
+
 def test_fit_recovers_the_model_and_its_intervals_cover_it(bases):
     th = np.array([2.0, 8.0, 15.0, 25.0])
     truth = {"S0": 1.1, "RS": 1.8, "RP": 30.0, "W": 0.6, "delay_ms": 40.0}
-    speed, p0 = unit_properties(th, truth["S0"], truth["RS"], truth["RP"], truth["W"])
+    clean = _clean_force(bases, th, truth, scale=2.0, offset=0.5)
     t = bases.t_ms
-    clean = np.interp(t - truth["delay_ms"], t, 2.0 * p0 @ bases.at(speed)) + 0.5
     covered = dict.fromkeys(truth, 0)
     draws = 20
     for seed in range(draws):
@@ -86,10 +93,8 @@ def test_fit_recovers_slow_units(bases):
     # contraction time 81 / 0.5 = 162 ms at 0 % MVC, near the soleus's whole-muscle 157 ms
     th = np.array([2.0, 8.0, 15.0, 25.0])
     truth = {"S0": 0.5, "RS": 1.5, "RP": 10.0, "W": 1.0, "delay_ms": 20.0}
-    speed, p0 = unit_properties(th, truth["S0"], truth["RS"], truth["RP"], truth["W"])
-    t = bases.t_ms
-    clean = np.interp(t - truth["delay_ms"], t, 3.0 * p0 @ bases.at(speed)) + 0.2
-    y = clean + np.random.default_rng(7).normal(0.0, 0.01 * clean.max(), t.size)
+    clean = _clean_force(bases, th, truth, scale=3.0, offset=0.2)
+    y = clean + np.random.default_rng(7).normal(0.0, 0.01 * clean.max(), clean.size)
     fit = fit_human_units(bases, th, y, calibration_ms=(0.0, 2000.0), heldout_ms=(2000.0, 4000.0))
     lo, hi = fit.intervals["S0"]
     assert fit.params["S0"] == pytest.approx(0.5, rel=0.1) and lo <= 0.5 <= hi, (fit.params, fit.intervals)
