@@ -16,6 +16,10 @@ Scores (``score``), from each case's ``named`` list:
 * a null is a **false alarm** when it names anything beyond the world's background;
 * a two-effect file scores **both named** when both of its causes are.
 
+``--journal FILE`` appends each finished case to FILE as a JSON line; ``--score FILE ...`` scores the cases of one or
+more journals as one suite (:func:`score_journals`: runs split over processes, seeds or sessions), refusing a case
+that appears twice.
+
 Each case also records how close the baseline comes to the data: every held-out trial's residual RMS under the
 baseline over the true noise sd (1 at the noise floor; the baseline of a null of world B should stay within 1.25).
 
@@ -41,6 +45,8 @@ if TYPE_CHECKING:
 
 #: Strength (fraction of the effect's amplitude range) of the suite's draws.
 STRENGTH_RANGE = (0.25, 1.0)
+#: The per-world row of the nulls: "named" counts those that name nothing beyond the world's background.
+NULL_ROW = "none (nothing beyond the background)"
 
 
 @dataclass(frozen=True)
@@ -164,6 +170,9 @@ def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
         if not r["effects"]:
             nulls += 1
             fa += int(s["false_alarm"])
+            p = w.setdefault(NULL_ROW, {"n": 0, "hits": 0})
+            p["n"] += 1
+            p["hits"] += int(not s["false_alarm"])
         else:
             effects_files += 1
             wrong_files += int(bool(s["wrong_names"]))
@@ -271,6 +280,47 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
                   flush=True)
     return {"n_seeds": n_seeds, "seed": seed, "workers": workers, "worlds": list(worlds), "two_effect": two_effect,
             "cases": results, **score(results)}
+
+
+def read_journals(paths: Sequence[str]) -> list[dict[str, Any]]:
+    """Every case record of the journal files ``paths`` (one JSON line per finished case, as ``--journal`` writes
+    them), in order: several partial or parallel runs of a suite scored as one.  InputError naming the file and line
+    of a record that is not a case, and of a case that appears twice (same world, effects and dataset seed)."""
+    rows: list[dict[str, Any]] = []
+    seen: dict[tuple, str] = {}
+    for path in paths:
+        try:
+            lines = open(path, encoding="utf-8").read().splitlines()
+        except OSError as e:
+            raise InputError(f"{path}: cannot read the journal ({e.strerror or e})") from None
+        for k, line in enumerate(lines, 1):
+            if not line.strip():
+                continue
+            where = f"{path}, line {k}"
+            try:
+                row = json.loads(line)
+            except json.JSONDecodeError as e:
+                raise InputError(f"{where}: not a JSON line ({e.msg})") from None
+            missing = [f for f in ("world", "effects", "seed") if not isinstance(row, dict) or f not in row]
+            if missing or ("score" not in row and "error" not in row):
+                raise InputError(f"{where}: not a case record of bench diagnose --suite (missing "
+                                 f"{', '.join(missing) or 'score'})")
+            key = (row["world"], json.dumps(row["effects"]), row["seed"])
+            if key in seen:
+                raise InputError(f"{where}: the case (world {row['world']}, {row.get('label', key[1])}, seed "
+                                 f"{row['seed']}) is already in {seen[key]}")
+            seen[key] = where
+            rows.append(row)
+    if not rows:
+        raise InputError(f"no case record in {', '.join(paths)}")
+    return rows
+
+
+def score_journals(paths: Sequence[str]) -> dict[str, Any]:
+    """The suite's scores (:func:`score`) over the cases of the journal files ``paths`` (:func:`read_journals`),
+    with the files and the number of cases."""
+    rows = read_journals(paths)
+    return {"journals": list(paths), "n_cases": len(rows), **score(rows)}
 
 
 def table_lines(res: dict[str, Any]) -> list[str]:

@@ -47,6 +47,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     help="with --suite: append each finished case to FILE as a JSON line")
     bd.add_argument("--first", type=int, default=1, metavar="K",
                     help="with --suite: start at case K (1-based, the order of the progress lines): resume a suite")
+    bd.add_argument("--score", nargs="+", default=None, metavar="JOURNAL",
+                    help="instead: score the finished cases of suite journals (several partial or parallel runs "
+                         "as one), no diagnosis run")
     bd.add_argument("--separability", action="store_true",
                     help="with --suite: instead of diagnosing, how far each case's hidden effect can be told from "
                          "calibration, to first order at the truth (about 1 min a case)")
@@ -148,6 +151,14 @@ def run_diagnose(args: argparse.Namespace) -> int:
 
     if args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
+    if args.score is not None:
+        if args.suite is not None:
+            raise InputError("--score reads journals; it takes no --suite")
+        from ..bench.diagnose_suite import score_journals, table_lines
+
+        res = score_journals(args.score)
+        print(json.dumps(res, indent=2) if args.json else "\n".join(table_lines(res)))
+        return 0
     if args.suite is not None:
         from ..bench.diagnose_suite import run_suite, suite_cases, table_lines
 

@@ -3,7 +3,12 @@
 
 import pytest
 
-from neuromuscle.bench.diagnose_suite import SuiteCase, judge_case, score, suite_cases, table_lines
+import json
+import re
+
+from neuromuscle.bench.diagnose_suite import (NULL_ROW, SuiteCase, judge_case, read_journals, score,
+                                              score_journals, suite_cases, table_lines)
+from neuromuscle.errors import InputError
 from neuromuscle.cli import main
 from neuromuscle.synth import CAUSES, OUTSIDE
 
@@ -77,6 +82,44 @@ def test_score_counts_hits_false_alarms_wrong_names_and_pairs():
     assert s["two_effect_files"] == 1 and s["both_named"] == 0 and s["errors"] == 1
     assert s["per_world"]["A"]["length_dependent_activation (background)"]["hits"] == 1
     assert "false alarms 1 of 3 nulls" in table_lines(s)[-1]
+    assert s["per_world"]["B"][NULL_ROW] == {"n": 2, "hits": 1, "hit_rate_pct": 50.0}
+    assert s["per_world"]["A"][NULL_ROW]["hits"] == 1  # eq 18 alone is right in an eq-18 world
+
+
+def _record(world, names, named, seed):
+    c = SuiteCase(world, tuple((n, 0.5) for n in names), 1.5, seed)
+    return {"world": world, "effects": [list(e) for e in c.effects], "seed": seed, "label": c.label,
+            "named": named, "score": judge_case(c, named, named)}
+
+
+def _write(path, rows):
+    path.write_text("".join(json.dumps(r) + "\n" for r in rows))
+    return str(path)
+
+
+def test_journals_of_several_runs_score_as_one_suite(tmp_path, capsys):
+    first = [_record("A", [], ["length_dependent_activation"], 1), _record("B", ["fatigue"], ["fatigue"], 2)]
+    second = [_record("B", [], ["staircase"], 3), _record("B", ["staircase"], [], 4)]
+    a, b = _write(tmp_path / "a.jsonl", first), _write(tmp_path / "b.jsonl", second)
+    res = score_journals([a, b])
+    assert res["n_cases"] == 4 and res == {**score(first + second), "journals": [a, b], "n_cases": 4}
+    assert res["nulls"] == 2 and res["false_alarms"] == 1 and res["hidden_named"] == 1
+    assert main(["bench", "diagnose", "--score", a, b]) == 0
+    out = capsys.readouterr().out
+    assert "false alarms 1 of 2 nulls" in out and f"| B | {NULL_ROW} | 1 | 0 |" in out
+
+
+@pytest.mark.parametrize("text, message", [("{not json\n", "line 2: not a JSON line"),
+                                           ('{"world": "B"}\n', "line 2: not a case record"),
+                                           ("DUP", "line 2: the case (world A, none, seed 1) is already in")])
+def test_a_bad_journal_is_refused_naming_its_file_and_line(tmp_path, text, message):
+    good = json.dumps(_record("A", [], ["length_dependent_activation"], 1)) + "\n"
+    path = tmp_path / "j.jsonl"
+    path.write_text(good + (good if text == "DUP" else text))
+    with pytest.raises(InputError, match=re.escape(f"j.jsonl, {message}")):
+        read_journals([str(path)])
+    with pytest.raises(InputError, match="cannot read"):
+        read_journals([str(tmp_path / "missing.jsonl")])
 
 
 @pytest.mark.parametrize("argv, message", [(["--suite", "-1"], "seeds"),
@@ -87,6 +130,7 @@ def test_score_counts_hits_false_alarms_wrong_names_and_pairs():
                                            (["--first", "2"], "need --suite"),
                                            (["--two-effect", "2"], "need --suite"),
                                            (["--separability"], "need --suite"),
+                                           (["--score", "j.jsonl", "--suite", "1"], "takes no --suite"),
                                            (["--suite", "1", "--first", "13"], "between 1 and 12"),
                                            (["--world", "Z"], "unknown world"),
                                            (["--cause", "gout"], "gout"),
