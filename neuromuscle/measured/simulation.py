@@ -33,6 +33,16 @@ def check_trial_units(trial: Trial) -> None:
                          "and angles first)")
 
 
+def constant_length(trial: Trial) -> float | None:
+    """The trial's length (mm) when it is held exactly constant (a constant length, or every length sample equal):
+    it is then simulated as a constant, and no extension that acts through or after a movement changes its force.
+    None when the length varies."""
+    if trial.length is None:
+        return None if trial.length_const is None else float(trial.length_const)
+    x = np.asarray(trial.length, dtype=float)
+    return float(x[0]) if x.size and np.all(x == x[0]) else None
+
+
 def trial_clock(trial: Trial, settle_ms: float) -> tuple[np.ndarray, float, np.ndarray, LengthTrace | float]:
     """The trial on the simulation clock: sample times (ms), duration (ms), stimulus times (ms) and the length
     (mm, constant or a trace), time_s[0] at settle_ms."""
@@ -50,7 +60,8 @@ def trial_clock(trial: Trial, settle_ms: float) -> tuple[np.ndarray, float, np.n
     else:
         x = np.asarray(trial.length, dtype=float)
         lt, lx = (t_ms, x) if settle_ms == 0 else (np.concatenate([[0.0], t_ms]), np.concatenate([[x[0]], x]))
-        length = float(x[0]) if np.all(x == x[0]) else LengthTrace(lt, lx, name=f"trial {trial.trial_id}")
+        still = constant_length(trial)
+        length = still if still is not None else LengthTrace(lt, lx, name=f"trial {trial.trial_id}")
     return t_ms, float(t_ms[-1]), spikes_ms, length
 
 

@@ -126,3 +126,31 @@ def test_a_candidate_refits_only_its_subset():
     part = screen(["staircase"], ref, ref_sims, trials, measured, noise, OPTIONS, refitted=REFIT,
                   subsets={"staircase": ("C1",)})["staircase"]
     assert part.gain >= full.gain > 0.0
+
+
+def test_a_movement_candidate_is_screened_on_the_moving_trials_alone_with_the_same_result(monkeypatch):
+    """A candidate that needs movement is not simulated on trials held at a constant length, whose force is the
+    model's exactly (tests/model/test_extensions.py): its screen is the one every trial simulated gives, to the bit."""
+    from neuromuscle.diagnose import screening
+    from neuromuscle.model.extensions import Extension
+    from neuromuscle.synth import make_dataset
+
+    data = make_dataset("force_enhancement_after_stretch", 0.8, 3, world="B", noise_pct=1.0,
+                        trials=["twitch_opt", "train20_opt", "stretch_hold40", "ramp_shorten40"])
+    trials = list(data.trials.values())
+    assert sum(screening.constant_length(t) is None for t in trials) == 2
+    ref = load_parameters("CT09")
+    ref_sims = simulate_all(ref, trials, options=OPTIONS)
+    measured = {t.trial_id: np.asarray(t.force, dtype=float) for t in trials}
+    noise = {t.trial_id: Noise(0.02, 0.0, float(t.force.size)) for t in trials}
+    names = ["force_enhancement_after_stretch", "lengthening_below_optimum", "staircase"]
+    args = (names, ref, ref_sims, trials, measured, noise, OPTIONS)
+    calls = []
+    real = screening.simulate_runs
+    monkeypatch.setattr(screening, "simulate_runs", lambda runs, tr, *a: calls.append(len(tr)) or real(runs, tr, *a))
+    skipped = [s.to_json() for s in screening.screen_settings(*args, refitted=("P0", "KSE"))]
+    assert calls == [4, 2]  # every trial for the model, the refitted and the staircase; the moving ones for the rest
+    monkeypatch.setattr(Extension, "needs_movement", classmethod(lambda cls: False))
+    every = [s.to_json() for s in screening.screen_settings(*args, refitted=("P0", "KSE"))]
+    assert skipped == every
+    assert max(s["linearised_chi2_gain"] for s in every if "force_enhancement" in str(s)) > 0.0

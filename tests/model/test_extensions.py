@@ -25,6 +25,30 @@ def test_unknown_extension_and_bad_parameters_are_refused(ct09):
         MuscleUnit(ct09, extensions={"fatigue": {"kk": 0.1}})
 
 
+MOVEMENT_ONLY = {"lengthening_below_optimum", "movement_induced_depression", "force_enhancement_after_stretch",
+                 "force_depression_after_shortening"}
+
+
+@pytest.mark.parametrize("name", sorted(MOVEMENT_ONLY))
+def test_an_extension_that_needs_movement_leaves_a_constant_length_alone(ct09, name):
+    """``needs_movement``: at a constant length the force is the baseline's bit for bit at any of the extension's
+    values (the screening relies on it and does not simulate such trials), and a movement changes it."""
+    from neuromuscle.protocols import isokinetic_ramp
+
+    ext = registry()[name]
+    assert {n for n, e in registry().items() if e.needs_movement()} == MOVEMENT_ONLY
+    values = {p.name: p.upper if p.neutral is not None else p.default for p in ext.parameters}
+    spikes = constant_rate(40, 900.0, start_ms=50.0)
+    for length in (-8.0, -14.0):
+        base = simulate(ct09, spikes, length, 1000.0)
+        on = simulate(ct09, spikes, length, 1000.0, extensions={name: values})
+        np.testing.assert_array_equal(on.force_N, base.force_N)
+    lengths = (-6.0, -14.0) if ext.after < 0 else (-14.0, -6.0)  # shortening for depression, else a stretch
+    ramp = isokinetic_ramp(*lengths, 40.0, 300.0, 1000.0)
+    moved = simulate(ct09, spikes, ramp, 1000.0, extensions={name: values})
+    assert np.max(np.abs(moved.force_N - simulate(ct09, spikes, ramp, 1000.0).force_N)) > 1e-3 * base.force_N.max()
+
+
 @pytest.mark.parametrize("method", ["fixed", "cvode"])
 def test_neutral_extension_reproduces_the_baseline(ct09, method):
     """Fixed step: bit-identical.  CVODE: the extension's state joins the error norm and moves the adaptive

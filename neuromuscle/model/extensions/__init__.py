@@ -76,6 +76,12 @@ class Extension(Component):
     interacts: ClassVar[tuple[str, ...]] = ACTIVATION_PARAMETERS
     docs: ClassVar[str] = "reference/extensions.md"
 
+    @classmethod
+    def needs_movement(cls) -> bool:
+        """Whether the extension acts only where the length moves (through the movement, ``moves``, or after it,
+        ``after``): at a length held exactly constant the force is the model's without it, bit for bit."""
+        return cls.moves or cls.after != 0
+
     def attach(self, components: Mapping[str, Component], params: Mapping[str, float] | None) -> None:
         """Called by the unit once every component is built (a mechanism extension needs nothing here)."""
 
