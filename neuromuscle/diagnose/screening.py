@@ -186,8 +186,13 @@ def screen_settings(names: Sequence[str], reference: ParameterSet, reference_sim
     rest = iter(done[n_refit:])
     moving = [t for t in calibration if constant_length(t) is None]
     only = iter(simulate_runs([m for m, s in zip(moved, still) if s], moving, options, pool) if moving else [])
-    sims = iter(done[:n_refit] + [{**model_sims, **next(only)} if s and moving else
-                                  (dict(model_sims) if s else next(rest)) for s in still])
+    moved_sims = []
+    for needs_movement in still:  # in the order of ``moved``: simulated on every trial, or on the moving ones
+        if not needs_movement:
+            moved_sims.append(next(rest))
+        else:
+            moved_sims.append({**model_sims, **(next(only) if moving else {})})
+    sims = iter(done[:n_refit] + moved_sims)
 
     def column(h: float) -> np.ndarray:
         return (_whitened(next(sims), measured, noise, ids) - r0) / h
