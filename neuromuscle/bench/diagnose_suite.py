@@ -34,6 +34,7 @@ import sys
 import time
 import zlib
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
@@ -290,7 +291,7 @@ def read_journals(paths: Sequence[str]) -> list[dict[str, Any]]:
     seen: dict[tuple, str] = {}
     for path in paths:
         try:
-            lines = open(path, encoding="utf-8").read().splitlines()
+            lines = Path(path).read_text(encoding="utf-8").splitlines()
         except OSError as e:
             raise InputError(f"{path}: cannot read the journal ({e.strerror or e})") from None
         for k, line in enumerate(lines, 1):

@@ -152,8 +152,12 @@ def run_diagnose(args: argparse.Namespace) -> int:
     if args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
     if args.score is not None:
-        if args.suite is not None:
-            raise InputError("--score reads journals; it takes no --suite")
+        suite_only = [f for f, given in (("--suite", args.suite is not None), ("--causes", args.causes is not None),
+                                         ("--journal", args.journal is not None), ("--first", args.first != 1),
+                                         ("--two-effect", bool(args.two_effect)),
+                                         ("--separability", args.separability)) if given]
+        if suite_only:
+            raise InputError(f"--score reads journals; it takes no {', '.join(suite_only)}")
         from ..bench.diagnose_suite import score_journals, table_lines
 
         res = score_journals(args.score)

@@ -171,13 +171,13 @@ def screen_settings(names: Sequence[str], reference: ParameterSet, reference_sim
     runs = [(reference.with_values({n: reference[n] + h}), exts) for n, h in refit]
     moved = [(reference.with_values({**at, q: at[q] + h}), exts + (name,)) for name, _, at, moves in plans
              for q, h, _ in moves]
-    still = [known[name].needs_movement() for name, _, _, moves in plans for _ in moves]
+    needs_move = [known[name].needs_movement() for name, _, _, moves in plans for _ in moves]
     r0 = r
     model_sims: Mapping[str, np.ndarray] = reference_sims
     if column_dt_ms is not None:
         options = replace(options, dt_ms=column_dt_ms, record_dt_ms=None)
         runs = [(reference, exts)] + runs
-    every = [m for m, s in zip(moved, still) if not s]
+    every = [m for m, s in zip(moved, needs_move) if not s]
     done = simulate_runs(runs + every, calibration, options, pool)
     if column_dt_ms is not None:
         model_sims = done.pop(0)
@@ -185,10 +185,10 @@ def screen_settings(names: Sequence[str], reference: ParameterSet, reference_sim
     n_refit = len(refit)
     rest = iter(done[n_refit:])
     moving = [t for t in calibration if constant_length(t) is None]
-    only = iter(simulate_runs([m for m, s in zip(moved, still) if s], moving, options, pool) if moving else [])
+    only = iter(simulate_runs([m for m, s in zip(moved, needs_move) if s], moving, options, pool) if moving else [])
     moved_sims = []
-    for needs_movement in still:  # in the order of ``moved``: simulated on every trial, or on the moving ones
-        if not needs_movement:
+    for needs in needs_move:  # in the order of ``moved``: simulated on every trial, or on the moving ones alone
+        if not needs:
             moved_sims.append(next(rest))
         else:
             moved_sims.append({**model_sims, **(next(only) if moving else {})})
