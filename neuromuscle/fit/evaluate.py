@@ -5,15 +5,16 @@
 * **Map.**  All candidates of one Jacobian are evaluated by one call of the map in a fixed order, so serial and
   parallel fits are identical: every candidate is a pure function of its parameter vector (fixed-step
   integration; each simulation builds and tears down its unit).
-* **Batches** (:func:`trial_simulations`).  The candidates of one call that simulate the same trial run
-  together, as units of one NEURON run (up to ``BATCH_UNITS``): a lone unit spends most of each step in
-  NEURON's per-mechanism overhead, which the batch shares.  Each unit's force is bit for bit its own run's.
-* **Trial pool** (:class:`TrialPool`, ``fit(..., workers=N)`` or ``fit(..., pool=)``).  The work is split by
-  trial, and by candidate only beyond a batch, longest trials first: a single candidate (a trust-region step,
-  the final run, the half-step re-run of the intervals) then uses every worker too, and a Jacobian's
+* **Packed runs** (:func:`simulate_pairs`).  The (parameter set, trial) pairs of one call run together, as units
+  of one NEURON run (up to ``BATCH_UNITS``), the runs of one trial and of trials of similar duration alike: a lone
+  unit spends most of each step in NEURON's per-mechanism overhead, which the units of a run share.  Each unit's
+  force is bit for bit its own run's (``neuromuscle.sim.simulate_protocols``).
+* **Trial pool** (:class:`TrialPool`, ``fit(..., workers=N)`` or ``fit(..., pool=)``).  The work is split into
+  packed runs, longest first, small enough that every worker gets several: a single candidate (a trust-region
+  step, the final run, the half-step re-run of the intervals) then uses every worker too, and a Jacobian's
   candidates need not be a multiple of the workers.  The trials are sent to each worker once, when the pool
-  starts; a task carries parameter sets, their options and a trial index.  The forces are the same
-  simulations as in one process, so the fit is identical.
+  starts; a task carries parameter sets, their options and trial indices.  The forces are the same simulations as
+  in one process, so the fit is identical.
 """
 
 from __future__ import annotations
@@ -31,17 +32,20 @@ from ..measured import Trial
 from ..measured.simulation import trial_clock
 from ..model.kim import kim_excitation
 from ..parameters import ParameterSet
-from ..sim import simulate_batch
+from ..sim import simulate_protocols
 
 if TYPE_CHECKING:
     from .problem import FitProblem
 
 MapFn = Callable[[Callable[[Any], Any], Iterable[Any]], Iterable[Any]]
 
-#: The most units one batched NEURON run holds (:func:`trial_simulations`): a single unit spends most of its step
-#: in NEURON's per-mechanism overhead, which a batch shares; per run of a 12.5 s train (on two cores) 106 ms
+#: The most units one packed NEURON run holds (:func:`simulate_pairs`): a single unit spends most of its step in
+#: NEURON's per-mechanism overhead, which a run's units share; per run of a 12.5 s train (on two cores) 106 ms
 #: alone, 47 ms in batches of 8, 41 ms of 16, no better beyond.
 BATCH_UNITS = 16
+#: A packed run takes trials down to this share of its longest trial's duration; the shorter trials' units run on,
+#: unrecorded, to the run's end.
+PACK_SHARE = 0.5
 
 
 @dataclass(frozen=True)
@@ -59,30 +63,71 @@ class SimulationOptions:
     extensions: tuple[str, ...] = ()
 
 
+def packs(durations: Sequence[float], max_units: int, share: float | None = None) -> list[list[int]]:
+    """Indices of ``durations`` (ms) in packs of at most ``max_units``, longest first: a pack takes the next
+    longest while it is at least ``share`` (default ``PACK_SHARE``) of the pack's first (so a run wastes at most
+    1 - share of a unit's steps on a shorter trial)."""
+    share = PACK_SHARE if share is None else share
+    out: list[list[int]] = []
+    for i in sorted(range(len(durations)), key=lambda k: (-durations[k], k)):
+        if out and len(out[-1]) < max_units and durations[i] >= share * durations[out[-1][0]]:
+            out[-1].append(i)
+        else:
+            out.append([i])
+    return out
+
+
+def _packed(pairs: Sequence[tuple[ParameterSet, Trial, SimulationOptions]], max_units: int) -> list[list[int]]:
+    """The pairs (indices) in packs of :func:`packs`, the pairs of one pack alike in their options but for the
+    extensions (they share a NEURON run's step and excitation model)."""
+    groups: dict[SimulationOptions, list[int]] = {}
+    for c, (_, _, o) in enumerate(pairs):
+        groups.setdefault(replace(o, extensions=()), []).append(c)
+    out = []
+    for opts, members in groups.items():
+        durations = [opts.settle_ms + 1000.0 * float(pairs[c][1].time_s[-1] - pairs[c][1].time_s[0]) for c in members]
+        out += [[members[i] for i in pack] for pack in packs(durations, max_units)]
+    return sorted(out, key=lambda pack: -float(pairs[pack[0]][1].time_s[-1] - pairs[pack[0]][1].time_s[0]))
+
+
+def simulate_pairs(pairs: Sequence[tuple[ParameterSet, Trial, SimulationOptions]],
+                   max_units: int | None = None) -> list[np.ndarray | None]:
+    """The force (N) of each (parameter set, trial, options) pair at the trial's samples (None where the run failed
+    numerically): :func:`trial_simulation`'s numbers bit for bit, the pairs packed into NEURON runs of at most
+    ``max_units`` (default ``BATCH_UNITS``) units (:func:`packs`; each trial's clock and length made once)."""
+    out: list[np.ndarray | None] = [None] * len(pairs)
+    clocks: dict[tuple[int, float], tuple] = {}
+    for pack in _packed(pairs, max_units or BATCH_UNITS):
+        opts = pairs[pack[0]][2]
+        index: dict[int, int] = {}
+        protocols = []
+        for c in pack:
+            trial = pairs[c][1]
+            key = (id(trial), opts.settle_ms)
+            if key not in clocks:
+                clocks[key] = trial_clock(trial, opts.settle_ms)
+            if id(trial) not in index:
+                index[id(trial)] = len(protocols)
+                _, duration_ms, spikes_ms, length = clocks[key]
+                protocols.append((spikes_ms, length, duration_ms))
+        results = simulate_protocols(
+            [(pairs[c][0], {name: {} for name in pairs[c][2].extensions} or None, index[id(pairs[c][1])])
+             for c in pack], protocols,
+            excitation=kim_excitation(opts.length_compensation, opts.movement_compensation), record=("force.F",),
+            dt_ms=opts.dt_ms, record_dt_ms=opts.dt_ms if opts.record_dt_ms is None else opts.record_dt_ms)
+        for c, res in zip(pack, results):
+            t_ms = clocks[(id(pairs[c][1]), opts.settle_ms)][0]
+            out[c] = None if res is None else np.interp(t_ms, res.t_ms, res.force_N)
+    return out
+
+
 def trial_simulations(params: Sequence[ParameterSet], trial: Trial,
                       options: Sequence[SimulationOptions]) -> list[np.ndarray | None]:
     """The force (N) of ``trial`` under each parameter set with its options (None where the run failed
-    numerically): :func:`trial_simulation`'s numbers bit for bit, but the runs whose options differ at most in
-    their extensions are simulated together, as units of one NEURON run (``neuromuscle.sim.simulate_batch``),
-    at most ``BATCH_UNITS`` at a time."""
+    numerically): :func:`trial_simulation`'s numbers bit for bit, the runs packed (:func:`simulate_pairs`)."""
     if len(params) != len(options):
         raise ValueError(f"{len(options)} options for {len(params)} parameter sets")
-    out: list[np.ndarray | None] = [None] * len(params)
-    groups: dict[SimulationOptions, list[int]] = {}
-    for c, o in enumerate(options):
-        groups.setdefault(replace(o, extensions=()), []).append(c)
-    for opts, members in groups.items():
-        t_ms, duration_ms, spikes_ms, length = trial_clock(trial, opts.settle_ms)
-        for start in range(0, len(members), BATCH_UNITS):
-            chunk = members[start:start + BATCH_UNITS]
-            results = simulate_batch(
-                [(params[c], {name: {} for name in options[c].extensions} or None) for c in chunk], spikes_ms,
-                length, duration_ms, excitation=kim_excitation(opts.length_compensation, opts.movement_compensation),
-                record=("force.F",), dt_ms=opts.dt_ms,
-                record_dt_ms=opts.dt_ms if opts.record_dt_ms is None else opts.record_dt_ms)
-            for c, res in zip(chunk, results):
-                out[c] = None if res is None else np.interp(t_ms, res.t_ms, res.force_N)
-    return out
+    return simulate_pairs([(p, trial, o) for p, o in zip(params, options)])
 
 
 def evaluate_candidate(problem: FitProblem, z: np.ndarray) -> np.ndarray:
@@ -97,10 +142,12 @@ def evaluate_candidate(problem: FitProblem, z: np.ndarray) -> np.ndarray:
 def simulate_batched(params: Sequence[ParameterSet], trials: Sequence[Trial],
                      options: Sequence[SimulationOptions]) -> list[list[np.ndarray] | None]:
     """In this process, what :meth:`TrialPool.simulate` gives: the force (N) of every one of ``trials`` under
-    each parameter set with its options (None for a set whose run of some trial failed numerically), each trial's
-    runs batched (:func:`trial_simulations`)."""
-    per_trial = [trial_simulations(params, t, options) for t in trials]
-    out = [[per_trial[j][c] for j in range(len(trials))] for c in range(len(params))]
+    each parameter set with its options (None for a set whose run of some trial failed numerically), all runs
+    packed (:func:`simulate_pairs`)."""
+    if len(params) != len(options):
+        raise ValueError(f"{len(options)} options for {len(params)} parameter sets")
+    flat = simulate_pairs([(p, t, o) for p, o in zip(params, options) for t in trials])
+    out = [flat[c * len(trials):(c + 1) * len(trials)] for c in range(len(params))]
     return [None if any(f is None for f in sims) else sims for sims in out]  # type: ignore[misc]
 
 
@@ -120,11 +167,10 @@ def _install_trials(trials: list[Trial]) -> None:
     _WORKER_TRIALS = trials
 
 
-def _simulate_task(task: tuple[list[ParameterSet], int, list[SimulationOptions]]) -> list[np.ndarray | None]:
-    """Runs of one trial (index into the worker's trials): each (parameter set, options)'s force (N), None for a
-    run that failed numerically (:func:`trial_simulations`)."""
-    params, k, options = task
-    return trial_simulations(params, _WORKER_TRIALS[k], options)
+def _simulate_task(task: list[tuple[ParameterSet, int, SimulationOptions]]) -> list[np.ndarray | None]:
+    """One packed run: each (parameter set, trial index into the worker's trials, options)'s force (N), None for a
+    run that failed numerically (:func:`simulate_pairs`)."""
+    return simulate_pairs([(p, _WORKER_TRIALS[k], o) for p, k, o in task])
 
 
 class TrialPool:
@@ -138,7 +184,7 @@ class TrialPool:
             raise InputError(f"workers must be an integer >= 1, got {workers!r}")
         self.trials = list(trials)
         self._index = {id(t): k for k, t in enumerate(self.trials)}
-        self._span_s = [float(t.time_s[-1] - t.time_s[0]) for t in self.trials]
+        self.workers = workers
         self._pool = concurrent.futures.ProcessPoolExecutor(
             workers, mp_context=multiprocessing.get_context(mp_context), initializer=_install_trials,
             initargs=(self.trials,))
@@ -165,15 +211,15 @@ class TrialPool:
         per_set = [options] * len(params) if isinstance(options, SimulationOptions) else list(options)
         if len(per_set) != len(params):
             raise ValueError(f"{len(per_set)} options for {len(params)} parameter sets")
-        order = sorted(range(len(idx)), key=lambda j: -self._span_s[idx[j]])
-        chunks = [range(c, min(c + BATCH_UNITS, len(params))) for c in range(0, len(params), BATCH_UNITS)]
-        tasks = [(j, chunk) for j in order for chunk in chunks]
+        pairs = [(params[c], trials[j], per_set[c]) for c in range(len(params)) for j in range(len(idx))]
+        # small enough packs that every worker gets several (a single parameter set's trials too), longest first
+        size = max(1, min(BATCH_UNITS, -(-len(pairs) // (2 * self.workers))))
+        tasks = _packed(pairs, size)
         out: list[list[Any]] = [[None] * len(idx) for _ in params]
-        for (j, chunk), forces in zip(tasks, self._pool.map(
-                _simulate_task, [([params[c] for c in chunk], idx[j], [per_set[c] for c in chunk])
-                                 for j, chunk in tasks])):
-            for c, f in zip(chunk, forces):
-                out[c][j] = f
+        for pack, forces in zip(tasks, self._pool.map(
+                _simulate_task, [[(pairs[i][0], idx[i % len(idx)], pairs[i][2]) for i in pack] for pack in tasks])):
+            for i, f in zip(pack, forces):
+                out[i // len(idx)][i % len(idx)] = f
         return [None if any(f is None for f in sims) else sims for sims in out]
 
     def residuals(self, problem: FitProblem, zs: Sequence[np.ndarray],

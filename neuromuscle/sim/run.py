@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
@@ -50,7 +50,8 @@ def simulate(params: ParameterSet, spikes_ms: Iterable[float], length: LengthTra
     try:
         _check_pulse_spacing(unit, spikes)
         notes += [w for c in unit.components.values() for w in c.input_warnings(trace, unit.params)]
-        result = _run([unit], spikes, trace, duration_ms, sim, record, record_dt_ms, provenance_extra or {})[0]
+        result = _run([_Group([unit], spikes, trace, duration_ms)], sim, record, record_dt_ms,
+                      provenance_extra or {})[0]
     finally:
         unit.destroy()
     if isinstance(result, NumericalError):
@@ -67,7 +68,8 @@ def simulate_batch(runs: Sequence[tuple[ParameterSet, Mapping[str, Mapping[str, 
                    record_dt_ms: float = 0.1, dt_ms: float = Simulator.dt_ms,
                    initial_state: str = "rest") -> list[SimulationResult | None]:
     """One protocol (spikes_ms, length, duration_ms as :func:`simulate`) under several (parameter set,
-    extensions) runs, simulated together as units of one fixed-step NEURON run.
+    extensions) runs, simulated together as units of one fixed-step NEURON run (:func:`simulate_protocols` with
+    one protocol).
 
     Each unit's result is bit for bit the one :func:`simulate` gives it alone: the units share only their section
     and the length input, and no muscle mechanism writes a current.  What is shared is NEURON's per-step cost of
@@ -75,35 +77,77 @@ def simulate_batch(runs: Sequence[tuple[ParameterSet, Mapping[str, Mapping[str, 
     of a 12.5 s train cost about a third of eight separate runs.  A unit whose run fails numerically gives None;
     the others are unaffected.  Fixed step only: under CVODE the units would share the integrator's steps.
     excitation/contraction: a model name or a mapping slot -> Component (copied for every unit)."""
-    sim = Simulator(method="fixed", dt_ms=dt_ms)
-    spikes, late, trace, notes = _checked_protocol(spikes_ms, length, duration_ms, record_dt_ms, sim)
     runs = list(runs)
     for k, run in enumerate(runs):
         if not (isinstance(run, tuple) and len(run) == 2 and isinstance(run[0], ParameterSet)
                 and (run[1] is None or isinstance(run[1], Mapping))):
             raise InputError(f"simulate_batch: run {k} must be a (ParameterSet, extensions or None) pair, got "
                              f"{type(run).__name__} {run!r:.80}")
+    return simulate_protocols([(p, e, 0) for p, e in runs], [(spikes_ms, length, duration_ms)],
+                              excitation=excitation, contraction=contraction, record=record,
+                              record_dt_ms=record_dt_ms, dt_ms=dt_ms, initial_state=initial_state,
+                              caller="simulate_batch")
+
+
+#: One protocol of :func:`simulate_protocols`: stimulus times (ms), the length (a LengthTrace or a constant, mm)
+#: and the duration (ms).
+Protocol = tuple[Iterable[float], LengthTrace | float, float]
+
+
+def simulate_protocols(runs: Sequence[tuple[ParameterSet, Mapping[str, Mapping[str, float]] | None, int]],
+                       protocols: Sequence[Protocol], *, excitation: Model = None, contraction: Model = None,
+                       record: Sequence[str] | None = None, record_dt_ms: float = 0.1,
+                       dt_ms: float = Simulator.dt_ms, initial_state: str = "rest",
+                       caller: str = "simulate_protocols") -> list[SimulationResult | None]:
+    """Several protocols, each under one or more (parameter set, extensions) runs, simulated together as the units
+    of one fixed-step NEURON run to the longest protocol's duration.  Run k is (parameter set, extensions or None,
+    index into ``protocols``); a protocol is (spikes_ms, length, duration_ms) as :func:`simulate` takes them.
+
+    Each unit's result covers its own protocol's duration and is bit for bit the one :func:`simulate` gives it
+    alone: the units of one protocol share its length input, each protocol has its own, and no muscle mechanism
+    writes a current, so a unit's states never depend on another's; a unit whose protocol ends before the run
+    keeps its samples up to its own end (the fixed step's states at those times do not depend on when the run
+    stops).  Packing the runs of several protocols into one NEURON run shares NEURON's per-step cost of each
+    mechanism type where each protocol alone would have few units.  A unit whose run fails numerically gives None;
+    the others are unaffected."""
+    sim = Simulator(method="fixed", dt_ms=dt_ms)
+    runs = list(runs)
+    checked = [_checked_protocol(s, x, d, record_dt_ms, sim) for s, x, d in protocols]
+    for k, run in enumerate(runs):
+        if not (isinstance(run, tuple) and len(run) == 3 and isinstance(run[0], ParameterSet)
+                and (run[1] is None or isinstance(run[1], Mapping)) and isinstance(run[2], int)
+                and 0 <= run[2] < len(checked)):
+            raise InputError(f"{caller}: run {k} must be a (ParameterSet, extensions or None, protocol index < "
+                             f"{len(checked)}) triple, got {type(run).__name__} {run!r:.80}")
     if not runs:
         return []
     from neuron import h
 
     section = h.Section(name="batch_muscle")
     units: list[MuscleUnit] = []
+    owners: dict[int, MuscleUnit] = {}  # protocol index -> the unit that owns its length input
     try:
-        for k, (params, extensions) in enumerate(runs):
-            units.append(MuscleUnit(params, excitation=excitation, contraction=contraction, extensions=extensions,
-                                    section=section, length_source=units[0].length if units else None,
-                                    name=f"unit {k}", initial_state=initial_state))
-            _check_pulse_spacing(units[-1], spikes)
-        results = _run(units, spikes, trace, duration_ms, replace(sim, label="batch"), record, record_dt_ms, {})
+        for k, (params, extensions, j) in enumerate(runs):
+            unit = MuscleUnit(params, excitation=excitation, contraction=contraction, extensions=extensions,
+                              section=section, length_source=owners[j].length if j in owners else None,
+                              name=f"unit {k}", initial_state=initial_state)
+            units.append(unit)
+            owners.setdefault(j, unit)
+            _check_pulse_spacing(unit, checked[j][0])
+        groups = [_Group([u for u, r in zip(units, runs) if r[2] == j], checked[j][0], checked[j][2],
+                         float(protocols[j][2])) for j in sorted(owners)]
+        done = dict(zip((id(u) for g in groups for u in g.units),
+                        _run(groups, replace(sim, label="batch"), record, record_dt_ms, {})))
     finally:
         for u in units:
             u.destroy()
     out: list[SimulationResult | None] = []
-    for unit, res in zip(units, results):
+    for unit, (_, _, j) in zip(units, runs):
+        res = done[id(unit)]
         if isinstance(res, NumericalError):
             out.append(None)
             continue
+        _, late, trace, notes = checked[j]
         res.warnings[:0] = notes + [w for c in unit.components.values() for w in c.input_warnings(trace, unit.params)]
         res.settings["n_spikes_not_delivered"] = late
         out.append(res)
@@ -142,20 +186,22 @@ def _model_description(unit: MuscleUnit) -> dict[str, Any]:
     return {slot: {"component": type(c).__name__, **c.switches()} for slot, c in unit.components.items()}
 
 
-def _run(units: Sequence[MuscleUnit], spikes: np.ndarray, trace: LengthTrace, duration_ms: float, sim: Simulator,
-         record: Sequence[str] | None, record_dt_ms: float, extra: dict) -> list[SimulationResult | NumericalError]:
-    """Run ``units`` (the first owns the length input, the others share it) in one simulation: each unit's
-    result, or the NumericalError of a unit whose integration failed."""
+@dataclass
+class _Group:
+    """Units that share one protocol in a run: their stimulus times (ms), length trace and duration (ms); the first
+    unit owns the length input."""
+
+    units: Sequence[MuscleUnit]
+    spikes: np.ndarray
+    trace: LengthTrace
+    duration_ms: float
+
+
+def _play_length(owner: MuscleUnit, trace: LengthTrace, duration_ms: float) -> tuple[Any, ...]:
+    """Set the unit's length input to the trace's start and, when it moves, play the trace into it; returns the
+    vectors NEURON plays (keep them until the run ends, then ``play_remove`` them)."""
     from neuron import h
 
-    movement_events = []
-    for unit in units:
-        unit.add_spike_times(spikes)
-        for comp in unit.components.values():
-            if trace.onset_ms is not None and hasattr(comp, "set_movement_onset"):
-                comp.set_movement_onset(trace.onset_ms)
-                if getattr(comp, "uses_movement_clock", False):
-                    movement_events.append(trace.onset_ms)
     t_ms, xm, vm = trace.t_ms, trace.xm_mm, trace.velocity_mm_s
     if abs(t_ms[-1] - duration_ms) <= 1e-9 * max(1.0, duration_ms):
         # continue the last segment 1 ms past the run's end: a played vector that ends at the stop time makes
@@ -165,23 +211,44 @@ def _run(units: Sequence[MuscleUnit], spikes: np.ndarray, trace: LengthTrace, du
         xm = np.append(xm, xm[-1] + vm[-1] * (duration_ms + 1.0 - trace.t_ms[-1]) / 1000.0)
         vm = np.append(vm, vm[-1])
     tvec, xvec, vvec = h.Vector(on_time_grid(t_ms)), h.Vector(xm), h.Vector(vm)  # the recordings' time grid
-    length = units[0].length
+    length = owner.length
     length.xm = float(trace.xm_mm[0])
     length.vm = float(trace.velocity_mm_s[0])
     if not trace.is_isometric:
         xvec.play(length._ref_xm, tvec, 1)
         vvec.play(length._ref_vm, tvec, 1)
+    return tvec, xvec, vvec
+
+
+def _run(groups: Sequence[_Group], sim: Simulator, record: Sequence[str] | None, record_dt_ms: float,
+         extra: dict) -> list[SimulationResult | NumericalError]:
+    """Run every group's units in one simulation to the longest group's duration: each unit's result over its own
+    group's duration (in the groups' order), or the NumericalError of a unit whose integration failed."""
+    movement_events = []
+    played = []
+    for g in groups:
+        for unit in g.units:
+            unit.add_spike_times(g.spikes)
+            for comp in unit.components.values():
+                if g.trace.onset_ms is not None and hasattr(comp, "set_movement_onset"):
+                    comp.set_movement_onset(g.trace.onset_ms)
+                    if getattr(comp, "uses_movement_clock", False):
+                        movement_events.append(g.trace.onset_ms)
+        played.append(_play_length(g.units[0], g.trace, g.duration_ms))
     stepwise = sim.dt_ms if sim.method == "fixed" and (sim.nthread > 1 or sim.engine == "coreneuron") else None
-    recorders = [Recorder(unit, list(record) if record is not None else default_recordings(unit), record_dt_ms,
-                          every_step_dt_ms=stepwise, at_times_until_ms=duration_ms if sim.method == "cvode" else None)
-                 for unit in units]
+    duration_ms = max(g.duration_ms for g in groups)
+    recorders = [[Recorder(unit, list(record) if record is not None else default_recordings(unit), record_dt_ms,
+                           every_step_dt_ms=stepwise,
+                           at_times_until_ms=g.duration_ms if sim.method == "cvode" else None)
+                  for unit in g.units] for g in groups]
     try:
-        sim.run(duration_ms, units=units, cvode_events_ms=movement_events)
+        sim.run(duration_ms, units=[u for g in groups for u in g.units], cvode_events_ms=movement_events)
     finally:
-        xvec.play_remove()
-        vvec.play_remove()
-    return [_result(unit, recorder, spikes, trace, duration_ms, sim, record_dt_ms, extra)
-            for unit, recorder in zip(units, recorders)]
+        for _, xvec, vvec in played:
+            xvec.play_remove()
+            vvec.play_remove()
+    return [_result(unit, recorder, g.spikes, g.trace, g.duration_ms, sim, record_dt_ms, extra)
+            for g, recs in zip(groups, recorders) for unit, recorder in zip(g.units, recs)]
 
 
 def _result(unit: MuscleUnit, recorder: Recorder, spikes: np.ndarray, trace: LengthTrace, duration_ms: float,

@@ -1,7 +1,8 @@
-"""The diagnosis's CI sample: one blind preparation per measured world, a null and a two-effect file, each on a
-subset of its world's protocol set (the trials that calibrate the baseline and those that show its causes), so that
-the sample runs in minutes.  The rates over whole files are the benchmark's (``neuromuscle bench diagnose
---suite``, docs/validation/diagnosis.md)."""
+"""The diagnosis's CI sample: one blind preparation per measured world (world A's is a null, whose cause is the
+world's own eq 18; world B's has two hidden causes), a null of world B-reduced, each on a subset of its world's
+protocol set (the trials that calibrate the baseline and those that show its causes), so that the sample runs in
+minutes; "B doublet" runs with the slow tests.  The rates over whole files are the benchmark's (``neuromuscle
+bench diagnose --suite``, docs/validation/diagnosis.md)."""
 
 from __future__ import annotations
 

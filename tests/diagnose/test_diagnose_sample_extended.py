@@ -1,9 +1,12 @@
-"""The CI sample, extended design (worlds A and B) and a file with two hidden causes: blind diagnoses that name
-what the file holds (sample_cases.py)."""
+"""The CI sample, extended design (worlds A and B): a null of world A and a world-B file with two hidden causes,
+blind diagnoses that name what the file holds (sample_cases.py); a world-B file with one cause runs with the slow
+tests."""
 
+import pytest
 from sample_cases import diagnose_case
 
 
+@pytest.mark.slow
 def test_world_b_names_the_hidden_doublet():
     d = diagnose_case("B doublet")
     assert d.named == ["doublet_potentiation"], d.named

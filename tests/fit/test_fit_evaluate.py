@@ -1,5 +1,5 @@
-"""Evaluation of candidates (neuromuscle.fit.evaluate): a trial's simulation; batched runs are the lone runs;
-serial and parallel maps agree."""
+"""Evaluation of candidates (neuromuscle.fit.evaluate): a trial's simulation; batched and packed runs are the
+lone runs; serial and parallel maps agree."""
 
 from dataclasses import asdict, replace
 
@@ -51,6 +51,53 @@ def test_batched_runs_are_the_lone_runs(ct09, monkeypatch):
     assert not np.array_equal(got[0], got[1]) and not np.array_equal(got[0], got[4])
     with pytest.raises(ValueError, match="1 options for 2 parameter sets"):
         trial_simulations(params[:2], ramp, opts[:1])
+
+
+def _trials_of_several_durations(ct09):
+    """A ramp and isometric trials whose durations differ (and are off the 0.2 ms step grid: 0.3, 0.2173 and
+    0.41 s at 0.1 ms samples), so packed runs end after some of their units' trials."""
+    ramp = synthetic_trial(ct09, "ramp", [0.02, 0.04, 0.06], length=lambda t: -8.0 + 20.0 * np.clip(t - 0.05, 0, 0.1))
+    out = [ramp]
+    for tid, span, stim in (("short", 0.2173, [0.03]), ("long", 0.41, [0.02, 0.05, 0.33])):
+        t = np.arange(0.0, span, 0.0001)
+        out.append(Trial(trial_id=tid, protocol="twitch", time_s=t, force=np.zeros_like(t), force_unit="N",
+                         length_unit="mm", length_const=-6.0, stimulus_times_s=np.array(stim)))
+    return out
+
+
+def test_packed_runs_of_several_trials_are_the_lone_runs(ct09, monkeypatch):
+    """simulate_pairs packs runs of trials of different durations (and steps, and extensions) into shared NEURON
+    runs; every pair's force is trial_simulation's alone, bit for bit, in order, for any pack size."""
+    trials = _trials_of_several_durations(ct09)
+    moved = ct09.with_values({"kim_m2.C1": ct09["kim_m2.C1"] * 1.05})
+    opts = [OPTS, OPTS, replace(OPTS, dt_ms=0.2, record_dt_ms=0.5, settle_ms=0.0),
+            replace(OPTS, extensions=("fatigue",))]
+    pairs = [(p, t, o) for p, o in zip([ct09, moved, moved, ct09], opts) for t in trials]
+    alone = [trial_simulation(p, t, **asdict(o)) for p, t, o in pairs]
+    for size in (16, 3):
+        got = evaluate.simulate_pairs(pairs, max_units=size)
+        for (_, t, o), g, a in zip(pairs, got, alone):
+            np.testing.assert_array_equal(g, a, err_msg=f"{t.trial_id} {o}")
+    assert max(len(pack) for pack in evaluate._packed(pairs, 16)) > len({id(t) for t in trials}) - 1
+    monkeypatch.setattr(evaluate, "PACK_SHARE", 1.0)  # one trial per run: the runs of one trial batched only
+    assert all(len({id(pairs[i][1]) for i in pack}) == 1 for pack in evaluate._packed(pairs, 16))
+
+
+def test_packs_take_the_longest_first_and_bound_the_waste():
+    assert evaluate.packs([100.0, 400.0, 390.0, 150.0, 210.0], max_units=2, share=0.5) == [[1, 2], [4, 3], [0]]
+    assert evaluate.packs([], max_units=4) == []
+    assert evaluate.packs([5.0, 5.0, 5.0], max_units=4, share=0.5) == [[0, 1, 2]]
+
+
+def test_pool_packs_several_trials_and_is_the_serial_simulation(ct09):
+    trials = _trials_of_several_durations(ct09)
+    params = [ct09, ct09.with_values({"kim_m2.C1": ct09["kim_m2.C1"] * 1.05})]
+    with TrialPool(trials, workers=2) as pool:
+        got = pool.simulate(params, trials[::-1], OPTS)
+    serial = evaluate.simulate_batched(params, trials[::-1], [OPTS, OPTS])
+    for g, s in zip(got, serial):
+        for a, b in zip(g, s):
+            np.testing.assert_array_equal(a, b)
 
 
 def test_batched_serial_fit_is_the_per_candidate_fit(ct09, twitch_trials):

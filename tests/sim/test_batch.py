@@ -8,7 +8,7 @@ import neuromuscle.sim.run as run_module
 from neuromuscle import InputError, kim_excitation, simulate
 from neuromuscle.model.extensions import registry
 from neuromuscle.protocols import constant_rate, random_length
-from neuromuscle.sim import simulate_batch
+from neuromuscle.sim import simulate_batch, simulate_protocols
 from neuromuscle.sim.recordings import Recorder
 
 
@@ -88,3 +88,20 @@ def test_batch_refuses_a_run_that_is_not_a_parameter_set_and_extensions(ct09, ba
            "ext-not-mapping": (ct09, "fatigue")}[bad]
     with pytest.raises(InputError, match=r"simulate_batch: run 1 must be a \(ParameterSet, extensions or None\) pair"):
         simulate_batch([(ct09, None), run], [10.0], -6.0, 100.0)
+
+
+def test_protocols_of_different_lengths_in_one_run_are_each_alone(ct09):
+    """simulate_protocols: a moving 600 ms protocol and an isometric 250.3 ms one (ending off the step grid) in one
+    run, each with its own length input; every unit is its lone run bit for bit over its own duration."""
+    protocols = [(constant_rate(20, 500.0, start_ms=50.0), random_length(600.0, seed=2), 600.0),
+                 ([10.0, 120.0], -6.0, 250.3)]
+    runs = [(ct09, None, 1), (ct09, {"fatigue": {}}, 0), (ct09, None, 0), (ct09, None, 1)]
+    got = simulate_protocols(runs, protocols, record=("force.F",), dt_ms=0.2, record_dt_ms=0.5)
+    for (params, ext, j), res in zip(runs, got):
+        spikes, length, duration = protocols[j]
+        alone = simulate(params, spikes, length, duration, extensions=ext, record=("force.F",), dt_ms=0.2,
+                         record_dt_ms=0.5)
+        assert np.array_equal(res.t_ms, alone.t_ms) and np.array_equal(res.force_N, alone.force_N), (ext, j)
+    with pytest.raises(InputError, match=r"simulate_protocols: run 0 must be a \(ParameterSet, extensions or None, "
+                                         r"protocol index < 2\) triple"):
+        simulate_protocols([(ct09, None, 2)], protocols)
