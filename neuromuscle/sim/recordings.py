@@ -35,7 +35,7 @@ class Recorder:
 
     With ``every_step_dt_ms`` (the fixed step, ms) NEURON records every step and the samples are taken every
     record_dt_ms afterwards: with more than one thread, NEURON 9's interval recording samples the variables of
-    the second thread at the wrong moments (measured in tests/model/test_unit.py), stepwise recording does not;
+    the second thread at the wrong moments (measured in tests/sim/test_unit.py), stepwise recording does not;
     CoreNEURON records only every step.  ``take()`` moves the samples out of the every-step vectors (call it
     between the parts of a run made in chunks, so that memory holds one chunk's steps, not the run's).
     """
