@@ -69,6 +69,18 @@ def test_no_pair_is_tried_without_a_candidate_beyond_noise_and_material_alone():
     assert joint(None, alone) is None
 
 
+def test_a_candidate_failing_only_for_size_is_paired():
+    """Two causes of similar size each leave the other's share of the held-out error: a candidate that passes every
+    rule but R4 is tried with the best measured other one (each then judged against the other alone, R4 included);
+    one that also fails another rule is not."""
+    small = candidate("a", ["R4"], score=50.0, chi2_gain=400.0)
+    other = candidate("b", ["R4", "R7"], score=40.0, chi2_gain=300.0)
+    first, second = pair_for(Step(1, model("M"), {"a": small, "b": other}))
+    assert (first.name, second.name) == ("a", "b")
+    both = Step(1, model("M"), {"a": candidate("a", ["R4", "R3"]), "b": candidate("b", ["R4", "R7"])})
+    assert pair_for(both) is None
+
+
 def test_putting_p0_back_moves_the_force_valued_parameters_with_it():
     """A start or screen at the base force-length curve keeps the force-velocity curve's shape relative to P0:
     a fitted c0 below the base P0 would otherwise be refused by KimForce (eq 11's asymptote)."""
