@@ -85,8 +85,7 @@ def simulate_batch(runs: Sequence[tuple[ParameterSet, Mapping[str, Mapping[str, 
                              f"{type(run).__name__} {run!r:.80}")
     return simulate_protocols([(p, e, 0) for p, e in runs], [(spikes_ms, length, duration_ms)],
                               excitation=excitation, contraction=contraction, record=record,
-                              record_dt_ms=record_dt_ms, dt_ms=dt_ms, initial_state=initial_state,
-                              caller="simulate_batch")
+                              record_dt_ms=record_dt_ms, dt_ms=dt_ms, initial_state=initial_state)
 
 
 #: One protocol of :func:`simulate_protocols`: stimulus times (ms), the length (a LengthTrace or a constant, mm)
@@ -97,8 +96,8 @@ Protocol = tuple[Iterable[float], LengthTrace | float, float]
 def simulate_protocols(runs: Sequence[tuple[ParameterSet, Mapping[str, Mapping[str, float]] | None, int]],
                        protocols: Sequence[Protocol], *, excitation: Model = None, contraction: Model = None,
                        record: Sequence[str] | None = None, record_dt_ms: float = 0.1,
-                       dt_ms: float = Simulator.dt_ms, initial_state: str = "rest",
-                       caller: str = "simulate_protocols") -> list[SimulationResult | None]:
+                       dt_ms: float = Simulator.dt_ms, initial_state: str = "rest"
+                       ) -> list[SimulationResult | None]:
     """Several protocols, each under one or more (parameter set, extensions) runs, simulated together as the units
     of one fixed-step NEURON run to the longest protocol's duration.  Run k is (parameter set, extensions or None,
     index into ``protocols``); a protocol is (spikes_ms, length, duration_ms) as :func:`simulate` takes them.
@@ -117,8 +116,8 @@ def simulate_protocols(runs: Sequence[tuple[ParameterSet, Mapping[str, Mapping[s
         if not (isinstance(run, tuple) and len(run) == 3 and isinstance(run[0], ParameterSet)
                 and (run[1] is None or isinstance(run[1], Mapping)) and isinstance(run[2], int)
                 and 0 <= run[2] < len(checked)):
-            raise InputError(f"{caller}: run {k} must be a (ParameterSet, extensions or None, protocol index < "
-                             f"{len(checked)}) triple, got {type(run).__name__} {run!r:.80}")
+            raise InputError(f"simulate_protocols: run {k} must be a (ParameterSet, extensions or None, protocol "
+                             f"index < {len(checked)}) triple, got {type(run).__name__} {run!r:.80}")
     if not runs:
         return []
     from neuron import h
