@@ -1,7 +1,8 @@
-"""The CI sample, reduced in situ design (worlds A-reduced and B-reduced) and a null: blind diagnoses that name what
-the file holds (sample_cases.py).  A file of world A carries the paper's eq 18: length_dependent_activation must be
-named beside its hidden cause."""
+"""The CI sample, reduced in situ design (worlds A-reduced and B-reduced): blind diagnoses that name what the file
+holds (sample_cases.py); a null of world B-reduced runs with the slow tests (the sample's null is world A's).  A file
+of world A carries the paper's eq 18: length_dependent_activation must be named beside its hidden cause."""
 
+import pytest
 from sample_cases import diagnose_case
 
 
@@ -19,6 +20,7 @@ def test_world_b_reduced_names_the_hidden_relaxation_alone():
     assert d.baseline.model.converged
 
 
+@pytest.mark.slow
 def test_a_null_names_nothing():
     d = diagnose_case("B-reduced null")
     assert d.named == [] and d.verdict == "none", [(s.index, {n: c.evidence.failed for n, c in s.candidates.items()

@@ -53,6 +53,7 @@ def test_reconstructed_pool_prints_its_figures(tmp_path, capsys, network_script)
     assert (tmp_path / "out" / "reconstructed_pool.png").stat().st_size > 10_000
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not CAILLET.is_dir(), reason=f"Caillet real-data folder {CAILLET} is absent")
 def test_recorded_discharges_default(tmp_path, network_script):
     s = network_script("recorded_discharges").main(["--out", str(tmp_path / "out")])

@@ -7,6 +7,10 @@ from neuromuscle import InputError, NumericalError, Simulator, kim_excitation, s
 from neuromuscle.protocols import LengthTrace, constant_rate, isokinetic_ramp, random_length, twitch
 from neuromuscle.reference import reference_simulate
 
+#: Random-length draws: seed 1 (the draw that showed the CE-step failure with eqs 19-20) in the default run, the
+#: other draws of the same protocol with the slow tests.
+SEEDS = [1, pytest.param(2, marks=pytest.mark.slow), pytest.param(3, marks=pytest.mark.slow)]
+
 
 def _fixed_vs_cvode(ct09, spikes, trace, duration_ms, mc=False):
     a = simulate(ct09, spikes, trace, duration_ms, record_dt_ms=0.5,
@@ -17,7 +21,7 @@ def _fixed_vs_cvode(ct09, spikes, trace, duration_ms, mc=False):
     return np.max(np.abs(a.force_N - b.force_N)) / max(a.force_N.max(), b.force_N.max())
 
 
-@pytest.mark.parametrize("seed", [1, 2, 3])
+@pytest.mark.parametrize("seed", SEEDS)
 @pytest.mark.parametrize("mc", [False, True])
 def test_random_length_fixed_step_within_half_percent_of_cvode(ct09, seed, mc):
     """The random-length protocol of Kim et al. 2015, 20 Hz from 500 ms: fixed step within 0.5 % of peak of CVODE
@@ -26,7 +30,7 @@ def test_random_length_fixed_step_within_half_percent_of_cvode(ct09, seed, mc):
     assert err < 0.005
 
 
-@pytest.mark.parametrize("seed", [1, 2, 3])
+@pytest.mark.parametrize("seed", SEEDS)
 @pytest.mark.parametrize("mc", [False, True])
 def test_random_length_against_scipy(ct09, seed, mc):
     """The random-length protocol of Kim et al. 2015 (20 Hz from 200 ms, 900 ms), eqs 19-20 off and on, against the
