@@ -82,6 +82,7 @@ INITIAL {
     zeroed = 0
     act_initial(CaSPT, xl, vm)
     al = A
+    capg = 1
     ce_initial()
 }
 

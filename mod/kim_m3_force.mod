@@ -70,6 +70,9 @@ Coupling: POINTER act -> activation A (1) of an excitation mechanism (KimAct, or
                    (force enhancement after stretch, depression after shortening) adds force_offset to the
                    output F = Fse + force_offset; the CE-SE dynamics see Fse only.  Read only when use_ports = 1
                    (set by the Python wiring, which points it at RANGE zero when unused), else 0.
+          POINTER capacity_gain -> modulation port (1): multiplies the force capacity, Fc = P0 g(Xm) A capacity_gain
+                   (a loss of force per cross-bridge, as in fatigue); read only when use_ports = 1 (pointed at
+                   RANGE unity when unused), else 1.
 Numerics: fixed step: one linearly implicit (Rosenbrock-Euler) step with the exact dv/dF (L-stable for the
 stiff SE-CE loop at low activation); F and vce are then recomputed from the updated XCE, so the fixed step
 reports the force at the step's end (as CVODE does), not at its start; CVODE (variable_step = 1): exact
@@ -81,13 +84,14 @@ NEURON {
     THREADSAFE
     : 1 while NEURON integrates with CVODE (set at every finitialize by the package; from hoc: variable_step_<name> = 1)
     GLOBAL variable_step
-    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, fcmin, F0, zero, use_ports, use_split, rest
+    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, fcmin, F0, zero, unity, use_ports, use_split, rest
     RANGE F, Fse, Fc, vce, nasym, xce, x0, subtol, nsubmax, nsub, nsplit
-    POINTER act, xm, force_offset, asw, ssw
+    POINTER act, xm, force_offset, capacity_gain, asw, ssw
 }
 
 PARAMETER {
     zero = 0 (N)
+    unity = 1 (1)
     use_ports = 0 (1)
     use_split = 0 (1)
     rest = 1 (1)
@@ -99,6 +103,7 @@ ASSIGNED {
     act (1)
     xm (mm)
     force_offset (N)
+    capacity_gain (1)
     asw (1)
     ssw (1)
 }
@@ -108,6 +113,7 @@ INCLUDE "kim_m3_force.inc"
 INITIAL {
     xl = xm
     al = act
+    read_capacity()
     ce_initial()
 }
 
@@ -117,6 +123,7 @@ BREAKPOINT {
         : fixed step: report F and vce of the updated CE state (the DERIVATIVE block's are the step's start)
         xl = xm
         al = act
+        read_capacity()
         ce_report()
     }
 }
@@ -125,6 +132,7 @@ DERIVATIVE states {
     : the POINTERs are read once per evaluation into xl, al
     xl = xm
     al = act
+    read_capacity()
     if (variable_step) {
         ce_rhs()
     } else {
@@ -138,6 +146,15 @@ DERIVATIVE states {
     }
     dxce' = aa - bb*dxce
     se_force()
+}
+
+PROCEDURE read_capacity() {
+    : the force capacity's gain capg (1): the modulation port when an extension drives it (use_ports = 1), else 1
+    if (use_ports) {
+        capg = capacity_gain
+    } else {
+        capg = 1
+    }
 }
 
 PROCEDURE force_output() {

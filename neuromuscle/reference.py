@@ -74,7 +74,7 @@ def activation(atil: float, t: float, x: float, v: float, p: Mapping[str, float]
 
 #: The modulation ports of the mechanisms and their neutral values (an extension's twin supplies functions of t).
 NEUTRAL_PORTS = {"release_gain": 1.0, "uptake_gain": 1.0, "tauA_gain": 1.0, "force_offset": 0.0,
-                 "C1_shift": 0.0}
+                 "C1_shift": 0.0, "capacity_gain": 1.0}
 
 
 def _port(mod: Mapping[str, Callable[[float], float]], name: str, t: float) -> float:
@@ -116,7 +116,7 @@ def _rhs(t: float, y: np.ndarray, p: Mapping[str, float], spikes: np.ndarray, tr
     xt = CaSPT / p["T0"]
     ainf = 0.5 * (1.0 + np.tanh((xt - p["C1"] - port["C1_shift"]) / p["C2"]))
     tau = port["tauA_gain"] * p["C3"] / np.cosh((xt - p["C4"]) / (2.0 * p["C5"]))
-    Fc = floored_capacity(float(force_length(x, p["g1"], p["g2"], p["P0"])) * A, p["P0"])
+    Fc = floored_capacity(float(force_length(x, p["g1"], p["g2"], p["P0"])) * A * port["capacity_gain"], p["P0"])
     extra = list(mod.rhs(t, y[7:], obs)) if isinstance(mod, StateModulation) else []
     return [-sr - R + U, sr, -st - sb + R - U, sb, st, (ainf - At) / tau, -ce_velocity(F, Fc, p) / 1000.0,
             *extra]

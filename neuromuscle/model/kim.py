@@ -148,7 +148,7 @@ class KimActivation(Component):
 
 class KimForce(Component):
     """Module 3 (KimForce): activation -> force, a Hill/Mashima CE in series with a linear SE, eqs 9-12.  Output
-    F (N) = SE force + the force_offset port."""
+    F (N) = SE force + the force_offset port; the capacity_gain port multiplies the CE's capacity Fc (1)."""
 
     suffix = "KimForce"
     namespace = "kim_m3"
@@ -168,6 +168,7 @@ class KimForce(Component):
         Port("act", "1", "act.A"),
         Port("xm", "mm", "length.xm"),
         Port("force_offset", "N", None, "zero"),
+        Port("capacity_gain", "1", None, "unity"),
         Port("asw", "1", "act.asw", "zero", optional=True, enables="use_split"),
         Port("ssw", "1", "act.ssw", "zero", optional=True, enables="use_split"),
     )

@@ -13,7 +13,7 @@ from neuromuscle.reference import reference_simulate
 def test_catalogue_is_found_by_scanning_the_folder():
     cat = registry()
     assert "fatigue" in cat
-    assert cat["fatigue"].targets == {"ca.release_gain": "gain"}
+    assert cat["fatigue"].targets == {"ca.release_gain": "gain", "force.capacity_gain": "cgain"}
 
 
 def test_unknown_extension_and_bad_parameters_are_refused(ct09):
@@ -67,7 +67,7 @@ def test_neutral_extension_reproduces_the_baseline(ct09, method):
 def fatigue_twin(ct09):
     """The SciPy twin of a 60 Hz train under fatigue (~20 s), shared by both integrators' tests."""
     spikes = constant_rate(60, 1400.0, start_ms=50.0)
-    values = {"k": 0.03, "tau_rec": 3000.0}
+    values = {"k": 0.03, "tau_rec": 3000.0, "kc": 0.5}
     twin = registry()["fatigue"].reference_modulation(values, spikes)
     return spikes, values, twin, reference_simulate(ct09, spikes, -8.0, 1500.0, record_dt_ms=0.5, modulation=twin)
 
@@ -76,7 +76,7 @@ def fatigue_twin(ct09):
 def test_fatigue_matches_its_scipy_twin(ct09, fatigue_twin, method):
     spikes, values, twin, ref = fatigue_twin
     sim = simulate(ct09, spikes, -8.0, 1500.0, method=method, record_dt_ms=0.5,
-                   extensions={"fatigue": values}, record=("force.F", "fatigue.gain"))
+                   extensions={"fatigue": values}, record=("force.F", "fatigue.gain", "fatigue.cgain"))
     n = min(ref.t_ms.size, sim.t_ms.size)
     err = sim.force_N[:n] - ref.force_N[:n]
     # the baseline's own tolerances against SciPy (tests/sim/test_accuracy.py: random trains)
@@ -84,10 +84,28 @@ def test_fatigue_matches_its_scipy_twin(ct09, fatigue_twin, method):
     assert np.max(np.abs(err)) < 0.015 * ref.force_N.max(), method
     gain_ref = np.array([twin["release_gain"](t) for t in sim.t_ms[:n]])
     np.testing.assert_allclose(sim["fatigue.gain"][:n], gain_ref, atol=2e-3)
+    cgain_ref = np.array([twin["capacity_gain"](t) for t in sim.t_ms[:n]])
+    np.testing.assert_allclose(sim["fatigue.cgain"][:n], cgain_ref, atol=1e-3)
     # and it is an effect: the late plateau sits clearly below the unfatigued one
     base = simulate(ct09, spikes, -8.0, 1500.0, method=method, record_dt_ms=0.5)
     late = slice(int(1300 / 0.5), int(1450 / 0.5))
     assert sim.force_N[late].mean() < 0.95 * base.force_N[late].mean()
+
+
+def test_fatigue_lowers_a_saturated_tetanus_through_the_force_capacity(ct09):
+    """At 100 Hz activation saturates: the release loss alone leaves the tetanus's late plateau nearly where it
+    was, the capacity loss lowers it by about kc D."""
+    spikes = constant_rate(100, 1400.0, start_ms=50.0)
+    late = slice(int(1300 / 0.5), int(1450 / 0.5))
+    plateau = {kc: simulate(ct09, spikes, -8.0, 1500.0, record_dt_ms=0.5, record=("force.F", "fatigue.gain"),
+                            extensions={"fatigue": {"k": 0.01, "tau_rec": 10_000.0, "kc": kc}})
+               for kc in (0.0, 1.0)}
+    base = simulate(ct09, spikes, -8.0, 1500.0, record_dt_ms=0.5).force_N[late].mean()
+    release_only, both = (plateau[kc].force_N[late].mean() for kc in (0.0, 1.0))
+    depletion = 1.0 - plateau[1.0]["fatigue.gain"][late].mean()
+    assert depletion > 0.5
+    assert release_only > 0.9 * base
+    assert both == pytest.approx(release_only * (1.0 - depletion), rel=0.1)
 
 
 def test_extension_from_the_command_line(tmp_path, capsys):
