@@ -29,14 +29,12 @@ One step, at the current model M (the baseline, then the baseline plus the cause
 5. the passing candidate with the best whole-file score is named; its model, refitted in every free parameter
    (:func:`consolidate`), becomes M;
 6. **two at once** (:func:`joint`), when no candidate passes but one is beyond noise and material alone (rules
-   R0, R2, R4) and fails another rule, or passes every rule but R4: a second cause in the data can make the first
-   one's held-out gain uneven (better where one acts, worse where the other does), the second one's fit alone
-   lands on the first one's misfit, and two causes of similar size each leave the other's share of the held-out
-   error, so that neither alone removes a quarter of it (R4) although together they do.  That candidate and a
-   second one (the fitted candidate with the best score among those beyond noise, else the best-screened one) are
-   fitted together (the baseline parameters either interacts with free, from each one's own fit), and each is
-   judged against the model with the other alone, by every rule, R4 included.  When both pass, both are named at
-   this step, the first one first.
+   R0, R2, R4) and fails another rule: a second cause in the data can make the first one's held-out gain uneven
+   (better where one acts, worse where the other does) and the second one's fit alone lands on the first one's
+   misfit.  The material candidate and a second one (the fitted candidate with the best score among those beyond
+   noise, else the best-screened one) are fitted together (the baseline parameters either interacts with free,
+   from each one's own fit), and each is judged against the model with the other alone, by every rule.  When
+   both pass, both are named at this step, the material one first.
 
 The search ends when no candidate passes, none is left, or after ``MAX_STEPS`` causes.  Each step estimates the
 trials' noise again from the residuals of the model it starts from (:func:`noise_under`).
@@ -78,8 +76,7 @@ FIT_SHARE = 1.0 / 3.0
 MAX_STEPS = 3
 #: Where a fitted extension "acts" in a held-out trial: it changes the force by more than this many noise sd.
 ACTS_SD = 0.5
-#: A candidate failing some rule is tried together with another one when it passes these alone, or fails only for
-#: being small (SMALL_ONLY) (step 6).
+#: A candidate failing some rule is tried together with another one when it passes these alone (step 6).
 JOINT_IF_PASSES = ("R0", "R2", "R4")
 
 
@@ -441,13 +438,12 @@ def fit_alone(ctx: Context, c: Candidate, before: FittedModel) -> None:
 
 
 def pair_for(s: Step) -> tuple[Candidate, Candidate] | None:
-    """The two candidates step 6 fits together at step ``s``: of those material alone (passing R0, R2 and R4) or
-    failing only for being small (``SMALL_ONLY``), the one with the best score, and the fitted candidate with the
-    best score among those whose held-out gain beats their penalty (rule R2: a measured gain), else the one with
-    the best screen (a linearised ranking); None when there is no first one or no other one is beyond noise."""
+    """The two candidates step 6 fits together at step ``s``: the material one (passing R0, R2 and R4 alone) with
+    the best score, and the fitted candidate with the best score among those whose held-out gain beats their
+    penalty (rule R2: a measured gain), else the one with the best screen (a linearised ranking); None when no
+    candidate is material alone or no other one is beyond noise."""
     material = [c for c in s.candidates.values()
-                if c.evidence is not None and (not set(JOINT_IF_PASSES) & set(c.evidence.failed)
-                                               or set(c.evidence.failed) <= SMALL_ONLY)]
+                if c.evidence is not None and not set(JOINT_IF_PASSES) & set(c.evidence.failed)]
     if not material:
         return None
     first = max(material, key=lambda c: c.evidence.score)
