@@ -40,3 +40,14 @@ def network_script():
         spec.loader.exec_module(mod)
         return mod
     return load
+
+
+def _heavy_cost(item: pytest.Item) -> float:
+    mark = item.get_closest_marker("heavy")
+    return float(mark.kwargs.get("cost_s", 0.0)) if mark is not None else -1.0
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Heavy files first, largest first (the ``heavy`` marker); the rest keep their order.  With ``--dist
+    loadfile --no-loadscope-reorder`` the workers take files in this order."""
+    items.sort(key=lambda item: -_heavy_cost(item))

@@ -20,6 +20,10 @@ from typing import Any, Callable, Iterable, Iterator
 Task = Callable[[Any, Callable[[Any], None]], None]
 
 
+#: How long (s) a new worker may take to start (spawn, imports) beyond a task's own timeout before it is killed.
+STARTUP_S = 60.0
+
+
 @dataclass
 class Outcome:
     """How one task ended: ``status`` "done", "error" (it raised: ``error`` holds the traceback), "timeout" (killed
@@ -42,6 +46,7 @@ def _serve(conn: Connection, fn: Task) -> None:
         if task is None:
             return
         index, item = task
+        conn.send(("begun", index, None))
         try:
             fn(item, lambda message, index=index: conn.send(("message", index, message)))
             conn.send(("done", index, None))
@@ -56,12 +61,13 @@ class _Worker:
         self.proc.start()
         child.close()
         self.outcome: Outcome | None = None
-        self.started = self.deadline = 0.0
+        self.started = self.deadline = self.timeout_s = 0.0
 
     def give(self, index: int, item: Any, timeout_s: float) -> None:
         self.outcome = Outcome(index, "running")
         self.started = time.monotonic()
-        self.deadline = self.started + timeout_s
+        self.deadline = self.started + timeout_s + STARTUP_S  # until the worker begins it
+        self.timeout_s = timeout_s
         self.conn.send((index, item))
 
     def finish(self, status: str, error: str | None = None) -> Outcome:
@@ -77,6 +83,10 @@ class _Worker:
         except EOFError:
             self.proc.join(5)
             return self.finish("died", f"worker process ended (exit code {self.proc.exitcode})")
+        if kind == "begun":  # the task's clock starts now: a worker's start-up is not the task's time
+            self.started = time.monotonic()
+            self.deadline = self.started + self.timeout_s
+            return None
         if kind == "message":
             assert self.outcome is not None
             self.outcome.messages.append(payload)
@@ -92,7 +102,9 @@ class _Worker:
 def guarded_map(fn: Task, items: Iterable[Any], workers: int, timeout_s: float,
                 mp_context: str = "spawn") -> Iterator[Outcome]:
     """Run ``fn(item, emit)`` for every item in ``workers`` processes, each task limited to ``timeout_s`` (s) of
-    wall time; yields each task's Outcome as it ends (completion order; ``Outcome.index`` is the item's position).
+    wall time from when its worker begins it (a worker's start-up does not count; a worker that has not begun it
+    ``timeout_s`` + :data:`STARTUP_S` after it was handed over is killed); yields each task's Outcome as it ends
+    (completion order; ``Outcome.index`` is the item's position).
     ``fn`` must be importable (a module-level function)."""
     ctx = multiprocessing.get_context(mp_context)
     pending = deque(enumerate(items))

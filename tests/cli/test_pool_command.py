@@ -16,6 +16,8 @@ from neuromuscle.pool.mpi import mpi_available, mpiexec_command
 from neuromuscle.pool.nwb import read_pool_nwb
 from neuromuscle.pool.pool_file import pool_setup, read_document
 
+pytestmark = pytest.mark.heavy(cost_s=65)
+
 FILES = ("pool.h5", "pool.nwb", "pool.png")
 NETWORKS = Path(__file__).resolve().parents[2] / "networks"
 

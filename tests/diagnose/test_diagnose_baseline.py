@@ -19,6 +19,8 @@ from neuromuscle.synth.protocols import protocol_set, standard_protocols
 from neuromuscle.synth.variation import draw_preparation
 from neuromuscle.measured import MeasuredData
 
+pytestmark = pytest.mark.heavy(cost_s=45)
+
 ISOMETRIC = ("twitch_short", "twitch_opt", "twitch_long", "train4_opt", "train10_short", "train20_short",
              "train40_short", "train10_opt", "train20_opt", "train40_opt", "train10_long", "train20_long",
              "train40_long", "low_rate3_opt", "low_rate6_opt")

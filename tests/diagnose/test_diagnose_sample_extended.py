@@ -5,6 +5,8 @@ hidden causes: test_diagnose_sample_two_effect.py."""
 import pytest
 from sample_cases import diagnose_case
 
+pytestmark = pytest.mark.heavy(cost_s=40)
+
 
 @pytest.mark.slow
 def test_world_b_names_the_hidden_doublet():

@@ -5,6 +5,8 @@ of world A carries the paper's eq 18: length_dependent_activation must be named 
 import pytest
 from sample_cases import diagnose_case
 
+pytestmark = pytest.mark.heavy(cost_s=130)
+
 
 def test_world_a_reduced_names_eq18_and_the_hidden_staircase():
     d = diagnose_case("A-reduced staircase")

@@ -2,7 +2,11 @@
 the model with the first (sample_cases.py).  A file of its own, so that the sample's longest diagnosis runs beside
 the others under pytest-xdist."""
 
+import pytest
+
 from sample_cases import diagnose_case
+
+pytestmark = pytest.mark.heavy(cost_s=170)
 
 
 def test_two_hidden_causes_are_both_named():

@@ -4,7 +4,11 @@ held-out gain that passes every rule."""
 
 import json
 
+import pytest
+
 from neuromuscle.parameters import load_parameters
+
+pytestmark = pytest.mark.heavy(cost_s=40)
 
 
 def test_null_with_calibration_misfit_names_nothing(null_files):

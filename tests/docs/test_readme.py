@@ -22,6 +22,8 @@ import pytest
 from neuromuscle.measured.example import TRUE_VALUES
 from neuromuscle.model import mechanisms
 
+pytestmark = pytest.mark.heavy(cost_s=80)
+
 README = Path(__file__).resolve().parents[2] / "README.md"
 SKIP_MARK = "<!-- readme-test: skip (CI runs these) -->"
 LANGUAGES = ("bash", "python", "hoc")

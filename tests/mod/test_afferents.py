@@ -8,6 +8,8 @@ import pytest
 
 from neuromuscle.model.mechanisms import load_mechanisms
 
+pytestmark = pytest.mark.heavy(cost_s=60)
+
 DURATION_MS = 2000.0
 
 

@@ -11,6 +11,8 @@ from neuromuscle.model.extensions import registry
 from neuromuscle.protocols import constant_rate
 from neuromuscle.reference import reference_simulate
 
+pytestmark = pytest.mark.heavy(cost_s=85)
+
 XM = -8.0  # mm, CT09's optimum
 DT_REC = 0.5  # ms
 

@@ -16,6 +16,8 @@ from neuromuscle.model.extensions import SwitchExtension, registry
 from neuromuscle.protocols import constant_rate, isokinetic_ramp, random_length
 from neuromuscle.reference import reference_simulate
 
+pytestmark = pytest.mark.heavy(cost_s=85)
+
 FE, FD = "force_enhancement_after_stretch", "force_depression_after_shortening"
 LDA, MID, LBO = "length_dependent_activation", "movement_induced_depression", "lengthening_below_optimum"
 BASELINE = Path(__file__).resolve().parents[1] / "baselines" / "unit_traces.npz"

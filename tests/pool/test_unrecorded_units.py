@@ -18,6 +18,8 @@ from neuromuscle.pool.unrecorded_units import (PUBLISHED_P0_SPREAD, STEP_MS, Com
                                                smoothed_rates, synthetic_discharges, transferred_pool_force,
                                                unrecorded_thresholds)
 
+pytestmark = pytest.mark.heavy(cost_s=40)
+
 TRUTH = RateModel(10.0, 0.1, 0.4, (0.0, 100.0))
 DURATION_MS = 17000.0
 TA = HUMAN_MUSCLES["TA"]

@@ -12,6 +12,8 @@ from neuromuscle.analysis.metrics import plateau, twitch_metrics
 from neuromuscle.protocols import constant_rate, isokinetic_ramp, random_interval, random_length
 from neuromuscle.reference import reference_simulate
 
+pytestmark = pytest.mark.heavy(cost_s=65)
+
 # the reference values of Kim et al. 2015 (docs/reference/kim2015.md), CT09 unless named:
 # (set, length mm, stimulus ms, end ms) -> values
 TWITCH_REFERENCE = {

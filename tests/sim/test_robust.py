@@ -7,6 +7,8 @@ from neuromuscle import InputError, NumericalError, Simulator, kim_excitation, s
 from neuromuscle.protocols import LengthTrace, constant_rate, isokinetic_ramp, random_length, twitch
 from neuromuscle.reference import reference_simulate
 
+pytestmark = pytest.mark.heavy(cost_s=95)
+
 #: Random-length draws: seed 1 (the draw that showed the CE-step failure with eqs 19-20) in the default run, the
 #: other draws of the same protocol with the slow tests.
 SEEDS = [1, pytest.param(2, marks=pytest.mark.slow), pytest.param(3, marks=pytest.mark.slow)]
