@@ -118,15 +118,25 @@ class Component:
     @classmethod
     def recordables(cls) -> dict[str, str]:
         """Variables that can be recorded, with units: the exposed RANGE variables and the states."""
-        return {**dict(cls.exposes), **{s.name: s.unit for s in cls.states}}
+        return dict(cls._referable()[0])
+
+    @classmethod
+    def _referable(cls) -> tuple[dict[str, str], frozenset[str]]:
+        """(the recordables, every variable ``ref`` accepts), made once per class: units are built by the
+        thousand in a fit, and the declarations are class constants."""
+        made = cls.__dict__.get("_referable_cache")
+        if made is None:
+            rec = {**dict(cls.exposes), **{s.name: s.unit for s in cls.states}}
+            made = (rec, frozenset(rec) | {p.neutral for p in cls.reads if p.neutral})
+            cls._referable_cache = made
+        return made
 
     # -- lifecycle -----------------------------------------------------------------------------------------
     def values(self, params: Mapping[str, float] | None) -> dict[str, float]:
         """Parameter values for this instance: explicit overrides, else the parameter set's value (by qualified
         name), else the declared default."""
         out = {}
-        for p in self.parameters:
-            q = self.qualified(p.name)
+        for p, q in self.qualified_parameters():
             if p.name in self.overrides:
                 out[p.name] = self.overrides[p.name]
             elif params is not None and q in params:
@@ -134,6 +144,15 @@ class Component:
             else:
                 out[p.name] = p.default
         return out
+
+    @classmethod
+    def qualified_parameters(cls) -> tuple[tuple[Param, str], ...]:
+        """Each declared parameter with its qualified name, made once per class."""
+        made = cls.__dict__.get("_qualified_cache")
+        if made is None:
+            made = tuple((p, cls.qualified(p.name)) for p in cls.parameters)
+            cls._qualified_cache = made
+        return made
 
     def instantiate(self, seg: Any, params: Mapping[str, float] | None) -> Any:
         """Create the point process at ``seg`` and set its parameters; returns the hoc object."""
@@ -150,7 +169,7 @@ class Component:
 
     def ref(self, variable: str) -> Any:
         """NEURON reference to an exposed variable or state (for POINTERs, Vector.record)."""
-        if variable not in self.recordables() and variable not in {p.neutral for p in self.reads if p.neutral}:
+        if variable not in self._referable()[1]:
             raise InputError(f"{type(self).__name__} exposes no {variable!r}; recordable: "
                              f"{', '.join(self.recordables())}")
         return getattr(self.obj, f"_ref_{variable}")

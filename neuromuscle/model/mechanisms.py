@@ -77,6 +77,8 @@ def mod_files() -> list[Path]:
 _HASHES: dict[tuple[tuple[str, int, int], ...], str] = {}
 #: The mechanism hash of the library this process loaded (None until :func:`load_mechanisms` loads one).
 _LOADED: str | None = None
+#: Non-empty once this process's NEURON holds every mechanism and the integrator handler (they cannot be unloaded).
+_READY: list[bool] = []
 
 
 def mechanism_hash() -> str:
@@ -227,12 +229,15 @@ def _build(digest: str, variant: str, library: str, build: Callable[[Path], str 
 def load_mechanisms() -> None:
     """Make the package's mechanisms available in this process's NEURON (idempotent), and have every
     ``finitialize`` tell them which integrator runs (:mod:`neuromuscle.model.integrator`)."""
+    if _READY:  # every unit calls this: once this process has them, nothing is left to check
+        return
     from neuron import h
 
     names = required_mechanisms()
     present = [hasattr(h, name) for name in names]
     if all(present):
         integrator.install(mod_files)
+        _READY.append(True)
         return
     if any(present):
         missing = [n for n, p in zip(names, present) if not p]
@@ -246,3 +251,4 @@ def load_mechanisms() -> None:
         raise MechanismBuildError(f"NEURON could not load {lib}")
     _LOADED = digest
     integrator.install(mod_files)
+    _READY.append(True)

@@ -133,8 +133,8 @@ class MuscleUnit:
     def _check_complete(self, comp: Component) -> None:
         # the Kim modules take every value from the parameter set (no silent default); others have tables
         if comp.module:
-            missing = [comp.qualified(p.name) for p in comp.parameters
-                       if p.name not in comp.overrides and comp.qualified(p.name) not in self.params]
+            missing = [q for p, q in comp.qualified_parameters()
+                       if p.name not in comp.overrides and q not in self.params]
             if missing:
                 raise InputError(f"parameter set {self.params.name!r} lacks {', '.join(missing)} "
                                  f"(needed by {type(comp).__name__})")
