@@ -1,8 +1,10 @@
-"""The diagnosis's CI sample: one blind preparation per measured world (world A's is a null, whose cause is the
-world's own eq 18; world B's has two hidden causes), each on a subset of its world's protocol set (the trials that
-calibrate the baseline and those that show its causes), so that the sample runs in minutes; a null of world
-B-reduced and "B doublet" run with the slow tests.  The rates over whole files are the benchmark's (``neuromuscle
-bench diagnose --suite``, docs/validation/diagnosis.md)."""
+"""The diagnosis's CI sample: one blind preparation per measured world, each on a subset of its world's protocol set
+(the trials that calibrate the baseline and those that show its causes), so that the sample runs in minutes: world
+A's is a null (its cause is the world's own eq 18), A-reduced's holds a staircase, B-reduced's two hidden causes
+(staircase and relaxation rate, on the reduced design alone) and B's a staircase.  The sample is a regression check
+of the pipeline on fixed files, not a rate: the rates over whole files are the benchmark's (``neuromuscle bench
+diagnose --suite``, docs/validation/diagnosis.md).  With the slow tests: a null of world B-reduced, B-reduced's
+relaxation alone, "B doublet" and a two-effect file of world B's extended design."""
 
 from __future__ import annotations
 
@@ -28,6 +30,8 @@ CASES = {
     "B-reduced null": (None, {}, "B-reduced", CORE_REDUCED),
     "B staircase and doublet": ("staircase", {"doublet_potentiation": 0.7}, "B",
                                 CORE_EXTENDED + LOW_RATE + DOUBLETS + ("twitch_series1_opt", "twitch_series2_opt")),
+    "B-reduced staircase and relaxation": ("staircase", {"relaxation_rate": 0.7}, "B-reduced", CORE_REDUCED),
+    "B staircase": ("staircase", {}, "B", CORE_EXTENDED + LOW_RATE),
 }
 STRENGTH, SEED, NOISE_PCT = 0.7, 101, 1.5
 
