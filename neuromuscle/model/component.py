@@ -16,6 +16,7 @@ extension is one mod file plus one component file.
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
 from dataclasses import dataclass, field
@@ -121,15 +122,12 @@ class Component:
         return dict(cls._referable()[0])
 
     @classmethod
+    @functools.cache
     def _referable(cls) -> tuple[dict[str, str], frozenset[str]]:
         """(the recordables, every variable ``ref`` accepts), made once per class: units are built by the
         thousand in a fit, and the declarations are class constants."""
-        made = cls.__dict__.get("_referable_cache")
-        if made is None:
-            rec = {**dict(cls.exposes), **{s.name: s.unit for s in cls.states}}
-            made = (rec, frozenset(rec) | {p.neutral for p in cls.reads if p.neutral})
-            cls._referable_cache = made
-        return made
+        rec = {**dict(cls.exposes), **{s.name: s.unit for s in cls.states}}
+        return rec, frozenset(rec) | {p.neutral for p in cls.reads if p.neutral}
 
     # -- lifecycle -----------------------------------------------------------------------------------------
     def values(self, params: Mapping[str, float] | None) -> dict[str, float]:
@@ -146,13 +144,10 @@ class Component:
         return out
 
     @classmethod
+    @functools.cache
     def qualified_parameters(cls) -> tuple[tuple[Param, str], ...]:
         """Each declared parameter with its qualified name, made once per class."""
-        made = cls.__dict__.get("_qualified_cache")
-        if made is None:
-            made = tuple((p, cls.qualified(p.name)) for p in cls.parameters)
-            cls._qualified_cache = made
-        return made
+        return tuple((p, cls.qualified(p.name)) for p in cls.parameters)
 
     def instantiate(self, seg: Any, params: Mapping[str, float] | None) -> Any:
         """Create the point process at ``seg`` and set its parameters; returns the hoc object."""

@@ -77,8 +77,8 @@ def mod_files() -> list[Path]:
 _HASHES: dict[tuple[tuple[str, int, int], ...], str] = {}
 #: The mechanism hash of the library this process loaded (None until :func:`load_mechanisms` loads one).
 _LOADED: str | None = None
-#: Non-empty once this process's NEURON holds every mechanism and the integrator handler (they cannot be unloaded).
-_READY: list[bool] = []
+#: True once this process's NEURON holds every mechanism and the integrator handler (they cannot be unloaded).
+_READY = False
 
 
 def mechanism_hash() -> str:
@@ -229,6 +229,7 @@ def _build(digest: str, variant: str, library: str, build: Callable[[Path], str 
 def load_mechanisms() -> None:
     """Make the package's mechanisms available in this process's NEURON (idempotent), and have every
     ``finitialize`` tell them which integrator runs (:mod:`neuromuscle.model.integrator`)."""
+    global _LOADED, _READY
     if _READY:  # every unit calls this: once this process has them, nothing is left to check
         return
     from neuron import h
@@ -237,18 +238,17 @@ def load_mechanisms() -> None:
     present = [hasattr(h, name) for name in names]
     if all(present):
         integrator.install(mod_files)
-        _READY.append(True)
+        _READY = True
         return
     if any(present):
         missing = [n for n, p in zip(names, present) if not p]
         raise MechanismBuildError(
             f"NEURON already holds some neuromuscle mechanisms but not {missing}: an old compiled copy "
             "(e.g. an x86_64/ folder in the working directory) is loaded; remove it or recompile mod/")
-    global _LOADED
     digest = mechanism_hash()
     lib = _compiled_library(digest)
     if not h.nrn_load_dll(str(lib)):
         raise MechanismBuildError(f"NEURON could not load {lib}")
     _LOADED = digest
     integrator.install(mod_files)
-    _READY.append(True)
+    _READY = True
