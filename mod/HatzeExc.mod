@@ -27,7 +27,7 @@ NEURON {
     : 1 while NEURON integrates with CVODE (set at every finitialize by the package; from hoc: variable_step_<name> = 1)
     GLOBAL variable_step
     RANGE theta1, theta2, theta3, theta4, theta5, q0, rho2, xicheck, s, xi
-    RANGE A, alpha, noverlap
+    RANGE A, alpha, noverlap, tstep
 }
 
 PARAMETER {
@@ -46,6 +46,7 @@ PARAMETER {
 
 ASSIGNED {
     dt (ms)
+    tstep (ms)
     A (1)
     alpha (1)
     on (1)
@@ -75,6 +76,7 @@ INITIAL {
     alpha = 0
     noverlap = 0
     active_state()
+    tstep = t
 }
 
 BREAKPOINT {
@@ -82,6 +84,7 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
+    LOCAL nst
     if (variable_step) {
         alpha = drive(t)
         ab = vb/(1000)
@@ -91,10 +94,13 @@ DERIVATIVE states {
         a4 = (b - theta4*g)/(1000)
         c4 = theta3/(1000)
     } else {
-        trapezoid_step(dt)
+        : the whole step (dt is halved in this block under secondorder: fixed_step.inc)
+        nst = euler_steps(t, tstep, dt)
+        trapezoid_step(dt*nst)
         c2 = 0
         c4 = 0
     }
+    tstep = t
     b' = ab
     vb' = a2 - c2*vb
     g' = ag
@@ -140,6 +146,7 @@ PROCEDURE trapezoid_step(h (ms)) {
 }
 
 INCLUDE "hatze_active_state.inc"
+INCLUDE "fixed_step.inc"
 
 NET_RECEIVE(w) {
     if (flag == 0) {

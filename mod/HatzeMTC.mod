@@ -47,7 +47,7 @@ NEURON {
     : 1 while NEURON integrates with CVODE (set at every finitialize by the package; from hoc: variable_step_<name> = 1)
     GLOBAL variable_step
     RANGE k_see, phi_ce_opt, Mmax, a_rel, b_rel, w, k_pee, phi_pee0_rel, phi_mtc_offset, xi_feedback
-    RANGE M, omega_ce, F0, e_test, nbad, noeq, xi_sink
+    RANGE M, omega_ce, F0, e_test, nbad, noeq, xi_sink, tstep
     POINTER act, xi_exc
 }
 
@@ -73,6 +73,7 @@ PARAMETER {
 
 ASSIGNED {
     dt (ms)
+    tstep (ms)
     act (1)
     xi_exc (1)
     M (Nm)
@@ -122,6 +123,7 @@ INITIAL {
     }
     rhs(phi_ce)
     feed_xi()
+    tstep = t
 }
 
 BREAKPOINT {
@@ -129,17 +131,23 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
+    LOCAL nst
     rhs(phi_ce)
     if (variable_step) {
         bb = -jac
         aa = fr + bb*phi_ce
     } else {
-        : one linearly implicit step: D = h f/(1 - h df/dphi)
-        aa = fr/(1 - dt*jac)
+        : one linearly implicit step: D = h f/(1 - h df/dphi), h the whole step (dt is halved in this block
+        : under secondorder: fixed_step.inc)
+        nst = euler_steps(t, tstep, dt)
+        aa = fr/(1 - dt*nst*jac)
         bb = 0
     }
+    tstep = t
     phi_ce' = aa - bb*phi_ce
 }
+
+INCLUDE "fixed_step.inc"
 
 AFTER SOLVE {
     : outputs at the new state (fixed step); under CVODE the DERIVATIVE evaluation has set them already

@@ -45,7 +45,7 @@ NEURON {
     RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, fcmin, F0, subtol, nsubmax
     RANGE F, Fse, Fc, vce, nasym, xce, x0, nsub, nsplit
     : the unit
-    RANGE rest, substeps
+    RANGE rest, substeps, tstep
     : intermediates set and used within one instance's evaluation (per instance: CoreNEURON takes no GLOBAL
     : assigned during a run)
     RANGE a1, a2, a3, a4, a5, a6, a7, b1, b2, b3, b4, b5, b6, b7, kA, kAd, dvdF, aa, bb, dfdx, kse, al, xl
@@ -64,6 +64,7 @@ PARAMETER {
 
 ASSIGNED {
     dt (ms)
+    tstep (ms)
     xm (mm)
     vm (mm/s)
     : the substep counter, and whether the derivatives are zeroed for the fixed step
@@ -74,6 +75,7 @@ ASSIGNED {
 INCLUDE "kim_m1_calcium.inc"
 INCLUDE "kim_m2_activation.inc"
 INCLUDE "kim_m3_force.inc"
+INCLUDE "fixed_step.inc"
 
 INITIAL {
     xl = xm
@@ -84,6 +86,7 @@ INITIAL {
     al = A
     capg = 1
     ce_initial()
+    tstep = t
 }
 
 BREAKPOINT {
@@ -91,6 +94,7 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
+    LOCAL nst
     : the length is read once per evaluation (under the fixed step, once per update: a POINTER read is a generic
     : data handle in NEURON 9)
     if (variable_step) {
@@ -101,7 +105,9 @@ DERIVATIVE states {
         if (kcount >= substeps) {
             kcount = 0
             xl = xm
-            step_all(substeps*dt)
+            : the whole step (dt is halved in this block under secondorder: fixed_step.inc)
+            nst = euler_steps(t, tstep, dt)
+            step_all(substeps*dt*nst)
         }
         if (zeroed == 0) {
             : the states are already advanced: nothing is left for METHOD euler to add (set once per run;
@@ -114,6 +120,7 @@ DERIVATIVE states {
             zeroed = 1
         }
     }
+    tstep = t
     CaSR' = a1 - b1*CaSR
     CaSRCS' = a2 - b2*CaSRCS
     CaSP' = a3 - b3*CaSP

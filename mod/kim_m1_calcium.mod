@@ -42,7 +42,7 @@ NEURON {
     GLOBAL variable_step
     RANGE K1, K2, K3, K4, K5i, K6i, K, Rmax, Umax, tau1, tau2, CS0, B0, T0, CaSR0
     RANGE phi1, phi2, phi3, phi4, xopt, lencomp
-    RANGE R, U, K5, K6, phi, nspike, unity, use_ports, rest
+    RANGE R, U, K5, K6, phi, nspike, unity, use_ports, rest, tstep
     POINTER atil, xm, release_gain, uptake_gain
 }
 
@@ -59,6 +59,7 @@ PARAMETER {
 
 ASSIGNED {
     dt (ms)
+    tstep (ms)
     atil (1)
     xm (mm)
     release_gain (1)
@@ -66,9 +67,11 @@ ASSIGNED {
 }
 
 INCLUDE "kim_m1_calcium.inc"
+INCLUDE "fixed_step.inc"
 
 INITIAL {
     ca_initial(atil, xm)
+    tstep = t
 }
 
 BREAKPOINT {
@@ -76,11 +79,15 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
+    LOCAL nst
     if (variable_step) {
         ca_rhs(atil, xm)
     } else {
-        ca_step(dt, atil, xm)
+        : the whole step (dt is halved in this block under secondorder: fixed_step.inc)
+        nst = euler_steps(t, tstep, dt)
+        ca_step(dt*nst, atil, xm)
     }
+    tstep = t
     CaSR' = a1 - b1*CaSR
     CaSRCS' = a2 - b2*CaSRCS
     CaSP' = a3 - b3*CaSP

@@ -50,7 +50,7 @@ NEURON {
     GLOBAL variable_step
     RANGE C1, C2, C3, C4, C5, alpha, alpha1, alpha2, alpha3, beta, gamma
     RANGE movdep, lengdiv, onset, Afloor, unity, zero, use_ports, rest
-    RANGE A, alpha_t, Ainf, tauA, atil0, asw, ssw
+    RANGE A, alpha_t, Ainf, tauA, atil0, asw, ssw, tstep
     POINTER caspt, xm, vm, T0, phi1, phi2, xopt, tauA_gain, C1_shift
     RANGE T0c, phi1c, phi2c, xoptc
 }
@@ -69,6 +69,7 @@ PARAMETER {
 
 ASSIGNED {
     dt (ms)
+    tstep (ms)
     caspt (M)
     T0 (M)
     phi1 (/mm)
@@ -81,9 +82,11 @@ ASSIGNED {
 }
 
 INCLUDE "kim_m2_activation.inc"
+INCLUDE "fixed_step.inc"
 
 INITIAL {
     act_initial(caspt, xm, vm)
+    tstep = t
 }
 
 BREAKPOINT {
@@ -91,6 +94,7 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
+    LOCAL nst
     if (variable_step) {
         : the movement clock runs from just after the onset: CVODE stops there (an event), and the step that
         : ends at the onset (whose implicit corrector evaluates this block at t = onset itself) still runs
@@ -100,9 +104,12 @@ DERIVATIVE states {
         activation(t, 1, xm, vm)
     } else {
         : the state is advanced here (act_step): nothing is left for METHOD euler to add
-        act_step(dt, caspt, xm, vm)
+        : the whole step (dt is halved in this block under secondorder: fixed_step.inc)
+        nst = euler_steps(t, tstep, dt)
+        act_step(dt*nst, caspt, xm, vm)
         kAd = 0
     }
+    tstep = t
     atil' = (Ainf - atil)*kAd
 }
 

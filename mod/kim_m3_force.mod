@@ -85,7 +85,7 @@ NEURON {
     : 1 while NEURON integrates with CVODE (set at every finitialize by the package; from hoc: variable_step_<name> = 1)
     GLOBAL variable_step
     RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, fcmin, F0, zero, unity, use_ports, use_split, rest
-    RANGE F, Fse, Fc, vce, nasym, xce, x0, subtol, nsubmax, nsub, nsplit
+    RANGE F, Fse, Fc, vce, nasym, xce, x0, subtol, nsubmax, nsub, nsplit, tstep
     POINTER act, xm, force_offset, capacity_gain, asw, ssw
 }
 
@@ -100,6 +100,7 @@ PARAMETER {
 
 ASSIGNED {
     dt (ms)
+    tstep (ms)
     act (1)
     xm (mm)
     force_offset (N)
@@ -109,12 +110,14 @@ ASSIGNED {
 }
 
 INCLUDE "kim_m3_force.inc"
+INCLUDE "fixed_step.inc"
 
 INITIAL {
     xl = xm
     al = act
     read_capacity()
     ce_initial()
+    tstep = t
 }
 
 BREAKPOINT {
@@ -129,6 +132,7 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
+    LOCAL nst
     : the POINTERs are read once per evaluation into xl, al
     xl = xm
     al = act
@@ -140,10 +144,13 @@ DERIVATIVE states {
         if (use_split) {
             sw = ssw
         }
-        ce_fixed_step(dt)
+        : the whole step (dt is halved in this block under secondorder: fixed_step.inc)
+        nst = euler_steps(t, tstep, dt)
+        ce_fixed_step(dt*nst)
         aa = acs
         bb = 0
     }
+    tstep = t
     dxce' = aa - bb*dxce
     se_force()
 }

@@ -18,7 +18,7 @@ NEURON {
     : 1 while NEURON integrates with CVODE (set at every finitialize by the package; from hoc: variable_step_<name> = 1)
     GLOBAL variable_step
     NONSPECIFIC_CURRENT i
-    RANGE gbar, g, erev, vhalf, slope, mtau, mfac, dtseen
+    RANGE gbar, g, erev, vhalf, slope, mtau, mfac, dtseen, tstep
 }
 
 UNITS {
@@ -39,6 +39,7 @@ PARAMETER {
 ASSIGNED {
     v (mV)
     dt (ms)
+    tstep (ms)
     i (mA/cm2)
     g (S/cm2)
     sinf (1)
@@ -55,6 +56,7 @@ INITIAL {
     m = cal_minf(v)
     dtseen = -1
     zeroed = 0
+    tstep = t
 }
 
 BREAKPOINT {
@@ -66,14 +68,18 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
+    LOCAL hfull, nst
     if (variable_step) {
         zeroed = 0
         am = cal_minf(v) / mtau
         bm = 1 / mtau
     } else {
-        if (dt != dtseen) {
-            mfac = 1 - exp(-dt / mtau)
-            dtseen = dt
+        : the whole step (dt is halved in this block under secondorder: fixed_step.inc)
+        nst = euler_steps(t, tstep, dt)
+        hfull = dt*nst
+        if (hfull != dtseen) {
+            mfac = 1 - exp(-hfull / mtau)
+            dtseen = hfull
         }
         logistic((v - vhalf) / slope)
         m = m + mfac * (sinf - m)
@@ -84,6 +90,7 @@ DERIVATIVE states {
             zeroed = 1
         }
     }
+    tstep = t
     m' = am - bm * m
 }
 
@@ -93,3 +100,4 @@ PROCEDURE logistic(x (1)) {
 }
 
 INCLUDE "mn_cal.inc"
+INCLUDE "fixed_step.inc"

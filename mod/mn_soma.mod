@@ -22,7 +22,7 @@ NEURON {
     GLOBAL variable_step
     NONSPECIFIC_CURRENT i
     RANGE gnaf, gkdr, gcan, gkca, ena, ek, eca, ptau, qtau, kd, depth, taur, cainf, ica, inaf, ik
-    RANGE pfac, qfac, cfac, dtseen
+    RANGE pfac, qfac, cfac, dtseen, tstep
 }
 
 UNITS {
@@ -77,6 +77,8 @@ ASSIGNED {
     qfac (1)
     cfac (1)
     dtseen (ms)
+    tstep (ms)
+    dtgate (ms)
     am (/ms)  bm (/ms)  ah (/ms)  bh (/ms)  an (/ms)  bn (/ms)  ap (/ms)  bp (/ms)  aq (/ms)  bq (/ms)
     ac (mM/ms)  bc (/ms)
     zeroed (1)
@@ -94,6 +96,7 @@ INITIAL {
     cai = cainf
     dtseen = -1
     zeroed = 0
+    tstep = t
 }
 
 BREAKPOINT {
@@ -111,6 +114,7 @@ BREAKPOINT {
 }
 
 DERIVATIVE states {
+    LOCAL hfull, nst
     if (variable_step) {
         zeroed = 0
         exact_rates(v)
@@ -122,17 +126,27 @@ DERIVATIVE states {
         ac = ca_entry(ica) + cainf / taur
         bc = 1 / taur
     } else {
-        if (dt != dtseen) {
-            : the factors of the gates with constant time constants, once per dt
-            pfac = 1 - exp(-dt / ptau)
-            qfac = 1 - exp(-dt / qtau)
-            cfac = 1 - exp(-dt / taur)
-            dtseen = dt
+        : the whole step (dt is halved in this block under secondorder: fixed_step.inc)
+        nst = euler_steps(t, tstep, dt)
+        hfull = dt*nst
+        if (hfull != dtseen) {
+            : the factors of the gates with constant time constants, once per step length
+            pfac = 1 - exp(-hfull / ptau)
+            qfac = 1 - exp(-hfull / qtau)
+            cfac = 1 - exp(-hfull / taur)
+            dtseen = hfull
         }
         tabled(v)
         m = m + mfac * (minf - m)
         h = h + hfac * (hinf - h)
         n = n + nfac * (ninf - n)
+        if (hfull > 1.5*dtgate) {
+            : the factors are for a shorter step than this one (computed exactly in this block, whose dt
+            : secondorder halves; the table's are for NEURON's dt): the second half, at the same v
+            m = m + mfac * (minf - m)
+            h = h + hfac * (hinf - h)
+            n = n + nfac * (ninf - n)
+        }
         p = p + pfac * (pinf - p)
         q = q + qfac * (qinf - q)
         : cnexp of cai' = ac - cai/taur: cai <- cai + (1 - exp(-dt/taur)) (ac taur - cai)
@@ -143,6 +157,7 @@ DERIVATIVE states {
             zeroed = 1
         }
     }
+    tstep = t
     m' = am - bm * m
     h' = ah - bh * h
     n' = an - bn * n
@@ -153,11 +168,13 @@ DERIVATIVE states {
 
 PROCEDURE tabled(v (mV)) {
     : the fixed step's gate targets and factors at v (tabulated; exact when usetable_mn_soma = 0)
-    TABLE minf, mfac, hinf, hfac, ninf, nfac, pinf, qinf DEPEND dt FROM -120 TO 80 WITH 8000
+    TABLE minf, mfac, hinf, hfac, ninf, nfac, pinf, qinf, dtgate DEPEND dt FROM -120 TO 80 WITH 8000
     exact_rates(v)
     mfac = 1 - exp(-dt / mtau)
     hfac = 1 - exp(-dt / htau)
     nfac = 1 - exp(-dt / ntau)
+    : the step these factors are for
+    dtgate = dt
 }
 
 PROCEDURE exact_rates(v (mV)) {
@@ -172,3 +189,4 @@ INCLUDE "mn_kdr.inc"
 INCLUDE "mn_can.inc"
 INCLUDE "mn_cadyn.inc"
 INCLUDE "mn_kca.inc"
+INCLUDE "fixed_step.inc"

@@ -98,7 +98,11 @@ class Simulator:
     cells so that neighbours in memory are neighbours in the cable (bit-identical to 0), 0 keeps NEURON's order;
     ``condition_order``: NEURON's CVode.condition_order, 1 (a NetCon's threshold crossing at the end of the step
     that detects it) or 2 (interpolated within the step: under CVODE only; NEURON's and CoreNEURON's fixed step
-    ignore it).  The run uses this value whatever the caller set in NEURON, and restores the caller's after it."""
+    ignore it).  ``secondorder``: NEURON's h.secondorder under the fixed step, 0 (backward Euler, first order in
+    dt) or 2 (Crank-Nicolson for the membrane, second order; 1 is its variant without the ionic-current
+    correction).  The muscle's mechanisms give the same numbers under each (they do not depend on v), a
+    motoneuron's discharges converge faster with 2 (docs/validation/speed.md).  The run uses these values whatever
+    the caller set in NEURON, and restores the caller's after it."""
 
     method: str = "fixed"
     dt_ms: float = 0.025
@@ -115,6 +119,7 @@ class Simulator:
     engine: str = "neuron"
     cell_permute: int = 1
     condition_order: int = 1
+    secondorder: int = 0
 
     def __post_init__(self) -> None:
         if self.method not in ("fixed", "cvode"):
@@ -129,6 +134,11 @@ class Simulator:
         if self.condition_order not in (1, 2) or isinstance(self.condition_order, bool):
             raise InputError(f"condition_order must be 1 or 2 (NEURON's threshold detection), got "
                              f"{self.condition_order!r}")
+        if self.secondorder not in (0, 1, 2) or isinstance(self.secondorder, bool):
+            raise InputError(f"secondorder must be 0, 1 or 2 (NEURON's fixed-step scheme), got {self.secondorder!r}")
+        if self.secondorder and self.method != "fixed":
+            raise InputError("secondorder applies to the fixed step only (CVODE chooses its own order): give "
+                             "method='fixed' or secondorder=0")
         for name in ("dt_ms", "atol", "rtol", "maxstep_ms"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
@@ -163,6 +173,8 @@ class Simulator:
             out["local_dt"] = True
         if self.condition_order != 1:
             out["condition_order"] = self.condition_order
+        if self.secondorder:
+            out["secondorder"] = self.secondorder
         if self.engine != "neuron":
             out["engine"] = self.engine
             out["cell_permute"] = self.cell_permute
@@ -222,7 +234,7 @@ class Simulator:
 
         cv = h.CVode()
         pc = h.ParallelContext()
-        h.secondorder = 0
+        h.secondorder = self.secondorder
         cv.condition_order(self.condition_order)
         if pc.nthread() != self.nthread:
             pc.nthread(self.nthread)

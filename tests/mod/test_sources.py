@@ -74,9 +74,14 @@ def test_no_equation_is_written_twice():
 
 def test_the_fused_mechanisms_include_their_modules_equations():
     includes = {f.name: set(re.findall(r'^INCLUDE "([\w.]+)"', f.read_text(), re.M)) for f in _mods()}
-    assert includes["KimUnit.mod"] == {"kim_m1_calcium.inc", "kim_m2_activation.inc", "kim_m3_force.inc"}
-    assert includes["mn_soma.mod"] == {"mn_naf.inc", "mn_kdr.inc", "mn_can.inc", "mn_cadyn.inc", "mn_kca.inc"}
-    assert includes["mn_pic.mod"] == {"mn_cal.inc"}
+    # fixed_step.inc: the step count every mechanism that advances its own states shares (secondorder)
+    assert includes["KimUnit.mod"] == {"kim_m1_calcium.inc", "kim_m2_activation.inc", "kim_m3_force.inc",
+                                       "fixed_step.inc"}
+    assert includes["mn_soma.mod"] == {"mn_naf.inc", "mn_kdr.inc", "mn_can.inc", "mn_cadyn.inc", "mn_kca.inc",
+                                       "fixed_step.inc"}
+    assert includes["mn_pic.mod"] == {"mn_cal.inc", "fixed_step.inc"}
+    for advancing in ("kim_m1_calcium", "kim_m2_activation", "kim_m3_force", "HatzeExc", "HatzeMTC"):
+        assert "fixed_step.inc" in includes[f"{advancing}.mod"], advancing
     for module in ("kim_m1_calcium", "kim_m2_activation", "kim_m3_force", "mn_naf", "mn_kdr", "mn_can", "mn_cadyn",
                    "mn_kca", "mn_cal"):
         assert f"{module}.inc" in includes[f"{module}.mod"], module
