@@ -102,7 +102,7 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
                duration_ms: float = DEFAULT_DURATION_MS, dt_ms: float = 0.025, drive: str = "synaptic",
                full: bool = False, progress: bool = False, muscle: str = "fused", substeps: int | None = None,
                nthread: int = 1, channels: str = "fused", engines: Sequence[str] = ("neuron",),
-               cell_permute: int = 1) -> dict[str, Any]:
+               cell_permute: int = 1, secondorder: int = 0) -> dict[str, Any]:
     """Run every (N, ranks) pair and return {"runs": [report, ...], "skipped": [...], settings}; a rank count
     that cannot run here (no MPI) is listed under "skipped" with the reason.  The drive is a common synaptic
     conductance rising to SYNAPTIC_PEAK_US over the run ("synaptic", the default: every unit recruited, about
@@ -114,7 +114,8 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
     "separate").  The defaults are the fast path (fused muscle every 0.2 ms, fused channels, dt 0.025 ms); the
     errors of each against the reference are in docs/validation/speed.md.  ``engines``: "neuron", "coreneuron" or
     both; with both, "agreement" compares their results of each (N, ranks); ``cell_permute``: CoreNEURON's
-    layout (1: compartments interleaved, bit-identical to 0 and faster)."""
+    layout (1: compartments interleaved, bit-identical to 0 and faster); ``secondorder``: NEURON's fixed-step
+    scheme for the membrane (0 backward Euler, 2 Crank-Nicolson)."""
     if not units or any(isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in units):
         raise InputError(f"pool sizes must be integers >= 1, got {list(units)}")
     if not ranks or any(isinstance(r, bool) or not isinstance(r, int) or r < 1 for r in ranks):
@@ -135,16 +136,19 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
             raise InputError(f"{name} must be an integer >= 1, got {k!r}")
     if substeps > 1 and muscle != "fused":
         raise InputError(f"substeps = {substeps} needs muscle='fused'")
+    if secondorder not in (0, 1, 2) or isinstance(secondorder, bool):
+        raise InputError(f"secondorder must be 0, 1 or 2, got {secondorder!r}")
     if channels not in CHANNELS:
         raise InputError(f"channels must be one of {', '.join(CHANNELS)}, got {channels!r}")
     if not engines or any(e not in ENGINES for e in engines) or len(set(engines)) != len(engines):
         raise InputError(f"engines must be one or more of {', '.join(ENGINES)}, each once, got {list(engines)}")
     extra = {"ramp": ["--ramp-peak-na", "20"], "synaptic": ["--synaptic-peak-us", str(SYNAPTIC_PEAK_US)]}.get(drive, [])
     extra += ["--muscle", muscle, "--substeps", str(substeps), "--nthread", str(nthread), "--channels", channels,
-              "--cell-permute", str(cell_permute)]
+              "--cell-permute", str(cell_permute), "--secondorder", str(secondorder)]
     out: dict[str, Any] = {"duration_ms": duration_ms, "dt_ms": dt_ms, "drive": drive, "full": full,
                            "muscle": muscle, "substeps": substeps, "nthread": nthread, "channels": channels,
                            "cpu_count": os.cpu_count(), "engines": list(engines), "cell_permute": cell_permute,
+                           "secondorder": secondorder,
                            "runs": [], "skipped": []}
     if len(engines) > 1:
         out["agreement"] = []

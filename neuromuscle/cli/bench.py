@@ -115,6 +115,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     help="engines, comma separated: neuron, coreneuron (both: their results compared)")
     bp.add_argument("--cell-permute", type=int, choices=(0, 1), default=1,
                     help="CoreNEURON's layout: 1 interleaves the cells' compartments (bit-identical, faster)")
+    bp.add_argument("--secondorder", type=int, choices=(0, 1, 2), default=0,
+                    help="NEURON's fixed-step scheme for the membrane: 0 backward Euler, 2 Crank-Nicolson (second "
+                         "order: its errors in docs/validation/speed.md)")
     bp.add_argument("--full", action="store_true", help="N = 100..800, 5 s (about half an hour on 2 cores)")
     bp.add_argument("--json", action="store_true")
     bp.set_defaults(func=run_pool)
@@ -140,7 +143,7 @@ def run_pool(args: argparse.Namespace) -> int:
     res = bench_pool(units, _int_list("--ranks", args.ranks), duration, args.dt_ms, args.drive, args.full,
                      progress=True, muscle=args.muscle, substeps=args.substeps, nthread=args.nthread,
                      channels=args.channels, engines=[e.strip() for e in args.engines.split(",") if e.strip()],
-                     cell_permute=args.cell_permute)
+                     cell_permute=args.cell_permute, secondorder=args.secondorder)
     print(json.dumps(res, indent=1) if args.json else "\n".join(table_lines(res)))
     return 0
 

@@ -11,17 +11,16 @@ rank before anything is built or written, with one message and exit code 2.
 ``--engine coreneuron`` integrates in CoreNEURON (fixed step; its mechanisms compile on first use), its cells'
 compartments interleaved (``--cell-permute 1``, bit-identical to NEURON's order 0).
 
-The JSON report: n_units, ranks, duration_ms, dt_ms, method, engine, cell_permute, drive, startup_s (interpreter,
-NEURON, mechanisms), build_s (cells, units, drive), sim_s (integration, slowest rank), wall_s (build + integration
-+ gathering), s_per_unit_s (sim_s per simulated unit-second), spikes (motoneuron spikes, all units), mean_rate_hz
-(spikes per unit-second), max_rate_hz and min_rate_hz (the largest and smallest of the units' rates at the end of
-the run, each from its last three interspike intervals), recruited (how many units fired more than three spikes),
-peak_rss_mib (largest rank) and peak_rss_mib_per_rank, pool_force_peak_N, and ``out`` when a file was written.
-Drives: ``synaptic`` (a common synaptic conductance rising linearly to --synaptic-peak-us over the run: every unit
-recruited, rates within those of human motor units), ``ramp`` (a common current to --ramp-peak-na; at the default
-40 nA the largest cells end near 190 Hz, at 20 nA within 20-40 Hz), ``poisson`` (independent Poisson excitation).
-Units: s, ms, MiB, N, uS, nA, Hz.
-"""
+The JSON report: n_units, ranks, duration_ms, dt_ms, method, secondorder, engine, cell_permute, drive, startup_s
+(interpreter, NEURON, mechanisms), build_s (cells, units, drive), sim_s (integration, slowest rank), wall_s (build +
+integration + gathering), s_per_unit_s (sim_s per simulated unit-second), spikes (motoneuron spikes, all units),
+mean_rate_hz (spikes per unit-second), max_rate_hz and min_rate_hz (the largest and smallest of the units' rates at
+the end of the run, each from its last three interspike intervals), recruited (how many units fired more than three
+spikes), peak_rss_mib (largest rank) and peak_rss_mib_per_rank, pool_force_peak_N, and ``out`` when a file was
+written. Drives: ``synaptic`` (a common synaptic conductance rising linearly to --synaptic-peak-us over the run:
+every unit recruited, rates within those of human motor units), ``ramp`` (a common current to --ramp-peak-na; at the
+default 40 nA the largest cells end near 190 Hz, at 20 nA within 20-40 Hz), ``poisson`` (independent Poisson
+excitation). Units: s, ms, MiB, N, uS, nA, Hz. """
 
 from __future__ import annotations
 
@@ -67,6 +66,7 @@ class PoolRun:
     channels: str = "fused"
     engine: str = "neuron"
     cell_permute: int = 1
+    secondorder: int = 0
 
 
 def parser() -> argparse.ArgumentParser:
@@ -107,6 +107,9 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--cell-permute", type=int, choices=(0, 1), default=d.cell_permute,
                     help="with --engine coreneuron: 1 interleaves the cells' compartments (bit-identical, faster), "
                          "0 keeps NEURON's order")
+    ap.add_argument("--secondorder", type=int, choices=(0, 1, 2), default=d.secondorder,
+                    help="NEURON's fixed-step scheme for the membrane: 0 backward Euler, 2 Crank-Nicolson (the "
+                         "muscle gives the same numbers under each)")
     ap.add_argument("--out", default=None, help="HDF5 result (written by rank 0)")
     ap.add_argument("--overwrite", action="store_true")
     ap.add_argument("--json", action="store_true", help="print the JSON report (rank 0)")
@@ -121,7 +124,7 @@ def _config(args: argparse.Namespace) -> PoolRun:
                    smallest_p0_N=args.smallest_p0_n, p0_range=args.p0_range, length_mm=args.length_mm,
                    record_dt_ms=args.record_dt_ms, muscle=args.muscle, substeps=args.substeps,
                    nthread=args.nthread, channels=args.channels, engine=args.engine,
-                   cell_permute=args.cell_permute)
+                   cell_permute=args.cell_permute, secondorder=args.secondorder)
 
 
 def peak_rss_mib() -> float:
@@ -146,7 +149,7 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
                                 motoneuron_channels=cfg.channels)
     sim = Simulator(method=cfg.method, dt_ms=cfg.dt_ms, atol=cfg.atol, v_init_mV=-70.0, max_wall_s=None,
                     local_dt=cfg.local_dt, nthread=cfg.nthread, label=f"pool of {cfg.n_units} units",
-                    engine=cfg.engine, cell_permute=cfg.cell_permute)
+                    engine=cfg.engine, cell_permute=cfg.cell_permute, secondorder=cfg.secondorder)
     if cfg.drive == "poisson":
         drive = Drive("poisson", rate_hz=cfg.rate_hz, weight_uS=cfg.weight_uS, seed=cfg.seed)
     elif cfg.drive == "synaptic":
@@ -207,7 +210,8 @@ def run_definition(definition: Any, drive: Any, sim: Any, duration_ms: float, nh
     spikes = int(sum(s.size for s in result.spikes_ms))
     final = final_rates_hz(result.spikes_ms)
     report = {"n_units": n, "ranks": nhost, "duration_ms": duration_ms,
-              "dt_ms": sim.dt_ms if sim.method == "fixed" else None, "method": sim.method, "engine": sim.engine,
+              "dt_ms": sim.dt_ms if sim.method == "fixed" else None, "method": sim.method,
+              "secondorder": sim.secondorder, "engine": sim.engine,
               "cell_permute": sim.cell_permute if sim.engine == "coreneuron" else None,
               "muscle": definition.muscle_model, "substeps": int(definition.muscle_substeps),
               "nthread": sim.nthread, "channels": definition.motoneuron_channels, "local_dt": sim.local_dt,

@@ -2,7 +2,8 @@
 with either muscle model and either channel set, Poisson input, recorded discharges, the synaptic drive at dt 0.05
 ms in either of CoreNEURON's layouts), also when the run is made in chunks to bound the every-step recordings, and
 on two MPI ranks; a simulator of the other engine is refused.  NEURON's threshold-crossing interpolation
-(``CVode.condition_order(2)``) changes nothing under either engine's fixed step."""
+(``CVode.condition_order(2)``) changes nothing under either engine's fixed step.  Under Crank-Nicolson (secondorder
+2) the engines give the same spikes and forces (to rounding with the three muscle mechanisms)."""
 
 import json
 import subprocess
@@ -19,7 +20,7 @@ from neuromuscle.pool.pool import Pool
 from neuromuscle.sim import Simulator
 
 
-def _run(definition, engine, drive="ramp", duration_ms=300.0):
+def _run(definition, engine, drive="ramp", duration_ms=300.0, secondorder=0):
     with Pool(definition, length=-8.0, engine=engine, motoneurons=drive != "discharges") as pool:
         if drive == "ramp":
             pool.drive_current_ramp([0.0, duration_ms], [0.0, 20.0])
@@ -28,7 +29,7 @@ def _run(definition, engine, drive="ramp", duration_ms=300.0):
         else:
             pool.drive_discharges([list(10.0 + 30.0 * np.arange(9) + i) for i in range(definition.n_units)],
                                   duration_ms)
-        return pool.run(duration_ms)
+        return pool.run(duration_ms, Simulator(engine=engine, secondorder=secondorder) if secondorder else None)
 
 
 def _assert_same(a, b):
@@ -44,6 +45,23 @@ def test_coreneuron_pool_is_neurons_bit_for_bit(ct09, muscle, substeps, channels
     a, b = _run(d, "neuron"), _run(d, "coreneuron")
     _assert_same(a, b)
     assert b.provenance["settings"]["engine"] == "coreneuron"
+
+
+@pytest.mark.parametrize("muscle, substeps", [("modules", 1), ("fused", 8)])
+def test_coreneuron_under_crank_nicolson_is_neurons_bit_for_bit(ct09, muscle, substeps):
+    """secondorder 2: both engines halve dt in the mechanisms' METHOD euler blocks, which count the whole step.  The
+    same spikes; the forces bit for bit with KimUnit (its derivatives are zero) and to rounding with the three
+    mechanisms (KimCa's and KimForce's mean rates are added in two halves, in each engine's own order)."""
+    d = PoolDefinition(6, ct09, muscle_model=muscle, muscle_substeps=substeps)
+    a, b = _run(d, "neuron", secondorder=2), _run(d, "coreneuron", secondorder=2)
+    assert sum(s.size for s in a.spikes_ms) > 10 and a.pool_force_N.max() > 0.1
+    assert all(np.array_equal(x, y) for x, y in zip(a.spikes_ms, b.spikes_ms))
+    if muscle == "fused":
+        np.testing.assert_array_equal(b.unit_force_N, a.unit_force_N)
+    assert np.abs(b.unit_force_N - a.unit_force_N).max() <= 1e-12 * a.unit_force_N.max()
+    assert b.provenance["settings"]["secondorder"] == 2
+    # the muscle is the same under either scheme; only the membrane's discharges differ
+    assert not all(np.array_equal(x, y) for x, y in zip(a.spikes_ms, _run(d, "neuron").spikes_ms))
 
 
 @pytest.mark.parametrize("drive", ["poisson", "discharges"])
