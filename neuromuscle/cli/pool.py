@@ -75,6 +75,8 @@ def flag_table() -> list[tuple[str, list[tuple[str, str, dict[str, Any]]]]]:
              {**number, "help": "sampling interval of forces and recordings (ms)"}),
             ("--method", "run.method", {"choices": ("fixed", "cvode"), "help": "integrator"}),
             ("--engine", "run.engine", {"choices": ENGINES, "help": "compute engine (coreneuron: fixed step)"}),
+            ("--secondorder", "run.secondorder", {"type": int, "choices": (0, 1, 2), "help": (
+                "the fixed step's scheme for the membrane: 0 backward Euler, 2 Crank-Nicolson (second order)")}),
             ("--record", "record.variables", {"action": "append", "metavar": "VAR", "help": (
                 "record a variable (repeatable): mn.v, mn.v_dend, mn.i_pic, mn.cai, or a muscle unit's (ca.CaSPT, "
                 "act.A, force.F, ...)")}),

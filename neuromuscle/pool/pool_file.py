@@ -27,6 +27,7 @@
     record_dt_ms = 1.0
     method = "fixed"                   # or "cvode"
     engine = "neuron"                  # or "coreneuron"
+    secondorder = 0                    # the fixed step's scheme for the membrane: 0 backward Euler, 2 Crank-Nicolson
     [record]                           # optional: Pool.record
     variables = ["mn.v", "act.A", "ca.CaSPT"]
     units = [0, 10]                    # default: every unit
@@ -78,7 +79,8 @@ FIELDS: dict[str, dict[str, Any]] = {
               "values_nA": None, "rate_hz": 400.0, "weight_uS": 0.15, "seed": 0},
     "length": {"kind": "isometric", "mm": -8.0, "seed": 0, "centre_mm": -8.0, "low_mm": -16.0, "high_mm": 0.0,
                "band_hz": 5.0, "to_mm": -4.0, "velocity_mm_s": 30.0, "start_ms": 300.0},
-    "run": {"duration_ms": 500.0, "dt_ms": 0.025, "record_dt_ms": 1.0, "method": "fixed", "engine": "neuron"},
+    "run": {"duration_ms": 500.0, "dt_ms": 0.025, "record_dt_ms": 1.0, "method": "fixed", "engine": "neuron",
+            "secondorder": 0},
     "record": {"variables": None, "units": None},
     "motoneuron": {"swc": None, "mechanisms": None, "cm": 1.0, "ra": 70.0, "max_segment_um": 100.0},
     "reflex": {**{k: v for k, v in ReflexDefinition().__dict__.items() if k != "ia_weight_uS"},
@@ -398,6 +400,10 @@ def pool_setup(doc: Mapping[str, Any], source: str, flagged: Mapping[str, str] |
         raise InputError(f"{f.where('run.record_dt_ms')} = {record_dt:g} ms is shorter than run.dt_ms = {dt:g} ms")
     method = f.choice("run.method", ("fixed", "cvode"))
     engine = f.choice("run.engine", ENGINES)
+    secondorder = f.integer("run.secondorder", 0)
+    if secondorder > 2 or (secondorder and method != "fixed"):
+        raise InputError(f"{f.where('run.secondorder')} must be 0, 1 or 2 and 0 under CVODE (NEURON's fixed-step "
+                         f"scheme), got {secondorder}")
     definition = _definition(f)
     try:
         definition.units()
@@ -408,6 +414,7 @@ def pool_setup(doc: Mapping[str, Any], source: str, flagged: Mapping[str, str] |
                          "units.p0_range (--p0-range))") from None
     try:
         sim = Simulator(method=method, dt_ms=dt, v_init_mV=-70.0, max_wall_s=None, engine=engine,
+                        secondorder=secondorder,
                         label=f"pool {definition.name!r} of {definition.n_units} units")
     except InputError as exc:
         raise InputError(f"{source}: [run]: {exc}") from None

@@ -20,6 +20,8 @@ def test_defaults_are_the_human_pool():
     assert s.drive.values == (0.0, 0.6, 0.6, 0.0) and s.drive.times_ms == (0.0, 250.0, 375.0, 500.0)
     assert s.length == -8.0 and s.duration_ms == 500.0 and s.record_dt_ms == 1.0 and s.recordings is None
     assert (s.simulator.method, s.simulator.dt_ms, s.simulator.engine) == ("fixed", 0.025, "neuron")
+    assert s.simulator.secondorder == 0
+    assert pool_setup({"run": {"secondorder": 2}}, "test").simulator.secondorder == 2
 
 
 def test_fields_reach_the_pieces():
@@ -57,6 +59,8 @@ def test_the_size_range_reaches_the_definition():
      "src: drive.times_ms reach 600 ms, beyond the run"),
     ({"run": {"record_dt_ms": 0.01}}, "src: run.record_dt_ms = 0.01 ms is shorter than run.dt_ms"),
     ({"run": {"engine": "gpu"}}, "src: run.engine must be one of neuron, coreneuron"),
+    ({"run": {"secondorder": 3}}, "src: run.secondorder must be 0, 1 or 2"),
+    ({"run": {"secondorder": 2, "method": "cvode"}}, "src: run.secondorder must be 0, 1 or 2 and 0 under CVODE"),
     ({"units": {"count": True}}, "src: units.count must be an integer >= 1, got True"),
     ({"units": {"types": [1, 0]}}, "src: units.types must be a list of 3 numbers"),
     ({"units": {"neuromodulation": -1}}, "src: units.neuromodulation must be >= 0"),
