@@ -20,24 +20,29 @@ from ..parameters import SPECS
 @dataclass(frozen=True)
 class Transform:
     """z <-> p for one free parameter: ``ref`` is p at z = 0 (parameter units); ``log`` chooses
-    z = ln(p / ref), otherwise z = (p - ref) / ``scale`` (scale in parameter units)."""
+    z = ln(p / ref), otherwise z = (p - ref) / ``scale`` (scale in parameter units).  ``lower`` and ``upper`` are
+    the bounds searched (parameter units): p never leaves them (ref exp(ln(upper / ref)) can round past upper, and
+    a parameter set refuses a value outside its range)."""
 
     name: str
     ref: float
     log: bool
     scale: float
+    lower: float = -math.inf
+    upper: float = math.inf
 
     @classmethod
     def for_parameter(cls, name: str, start: float, lower: float, upper: float) -> Transform:
         """The transform of parameter ``name`` started at ``start`` within [lower, upper] (parameter units)."""
         log = SPECS[name].lower >= 0 and lower > 0 and start > 0
-        return cls(name, start, log, 1.0 if log else max(abs(start), (upper - lower) / 10.0))
+        return cls(name, start, log, 1.0 if log else max(abs(start), (upper - lower) / 10.0), lower, upper)
 
     def to_z(self, p: float) -> float:
         return math.log(p / self.ref) if self.log else (p - self.ref) / self.scale
 
     def to_p(self, z: float) -> float:
-        return self.ref * math.exp(z) if self.log else self.ref + z * self.scale
+        p = self.ref * math.exp(z) if self.log else self.ref + z * self.scale
+        return min(max(p, self.lower), self.upper)
 
     def dp_dz(self, p: float) -> float:
         """dp/dz at p (parameter units per unit of z)."""
