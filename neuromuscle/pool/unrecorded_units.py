@@ -423,11 +423,11 @@ def pool_force(pool: CompletedPool, params: dict[str, float]) -> np.ndarray:
     speed, times the sum of its members' relative forces, :func:`unit_p0`)."""
     p = params
     th = pool.recorded_thresholds
-    total = unit_p0(pool, th, p) @ pool.recorded.at(p["S0"] * p["RS"] ** (th / 100.0))
+    total = pool.recorded.weighted_sum(p["S0"] * p["RS"] ** (th / 100.0), unit_p0(pool, th, p))
     if pool.unrecorded is not None:
         mean = np.array([g.mean() for g in pool.groups])
         weight = np.array([np.sum(unit_p0(pool, g, p)) for g in pool.groups])
-        total = total + weight @ pool.unrecorded.at(p["S0"] * p["RS"] ** (mean / 100.0))
+        total = total + pool.unrecorded.weighted_sum(p["S0"] * p["RS"] ** (mean / 100.0), weight)
     return np.interp(pool.t_ms - p["delay_ms"], pool.t_ms, total)
 
 

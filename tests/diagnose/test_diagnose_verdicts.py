@@ -1,6 +1,7 @@
 """Blind diagnoses of small preparations: a null with one calibration misfit -> nothing named; a hidden
 fatigue-like effect (release weights by stimulus count, not the extension's depletion state) -> "fatigue" with a
-held-out gain that passes every rule."""
+held-out gain that passes every rule.  Slow: the default run's blind diagnoses are the sample of
+test_diagnose_sample_*.py (a null and named causes of the synth worlds); these two add a generator of their own."""
 
 import json
 
@@ -8,7 +9,7 @@ import pytest
 
 from neuromuscle.parameters import load_parameters
 
-pytestmark = pytest.mark.heavy(cost_s=40)
+pytestmark = [pytest.mark.slow, pytest.mark.heavy(cost_s=40)]
 
 
 def test_null_with_calibration_misfit_names_nothing(null_files):

@@ -32,6 +32,12 @@ def test_bases_interpolate_in_log_speed(bases):
     assert np.array_equal(bases.at(np.full(n, 9.0)), bases.forces[-1])  # clipped to the grid
     # faster units relax sooner: less force per newton at these rates
     assert bases.forces[-1].sum() < bases.forces[0].sum()
+    # a weighted sum of the units at their own speeds is the product of the weights and the interpolated forces
+    rng = np.random.default_rng(3)
+    speeds, weights = rng.uniform(0.3, 3.0, n), rng.uniform(0.0, 2.0, n)
+    speeds[0] = speeds[1] = 0.65  # on a grid speed, and two units sharing its coefficients
+    expected = weights @ bases.at(speeds)
+    assert np.allclose(bases.weighted_sum(speeds, weights), expected, rtol=1e-12, atol=1e-12 * expected.max())
 
 
 def test_slowest_prior_unit_twitches_in_about_200_ms():
