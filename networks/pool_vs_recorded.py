@@ -61,9 +61,7 @@ def lead_in_ms(rec: RecordedDischarges, baseline_percent: float = 1.0) -> float:
     """How long before the first discharge the trial starts: from 500 ms before the force last rose from its
     baseline (``baseline_percent``, % MVC), at least 1 s, so that the pool starts at rest as the muscle did."""
     first = min(d[0] for d in rec.discharges_ms)
-    rest = np.flatnonzero((rec.force_t_ms < first) & (rec.force_percent_mvc <= baseline_percent))
-    start = rec.force_t_ms[rest[-1]] if rest.size else 0.0
-    return max(1000.0, first - start + 500.0)
+    return max(1000.0, first - rec.rest_times_ms(baseline_percent)[0] + 500.0)
 
 
 def follow(path: Path, cal: Calibration, spread: P0Spread, corrections: int, dt_ms: float,

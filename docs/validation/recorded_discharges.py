@@ -44,7 +44,7 @@ def completed(fits: DischargeFits) -> Completed:
 def one_file(path: Path, pool: bool = False) -> tuple[list[str], DischargeFits, Completed | None]:
     """The table row of one file, its fits, and (``pool``) its completed pool and fit."""
     rec = read_discharges(path)
-    trial = rec.trial(pad_ms=1000.0)
+    trial = rec.trial(pad_ms=1000.0, from_rest=True)
     t0 = time.time()
     fits = fit_both(trial)
     done = completed(fits) if pool else None
@@ -85,11 +85,14 @@ def transfer_rows(fits: dict[str, DischargeFits], pools: dict[str, Completed] | 
             for src, dst in ((a, b), (b, a)):
                 for label, source in (("first half", fits[src]), ("whole trial", whole[src])):
                     s = transfer_nrmse(source, fits[dst])
-                    row = [f"{src} -> {dst}", label, f"{s['human_units']:.1f}", f"{s['twitch_sum']:.1f}"]
+                    carried = [s["human_units"], s["twitch_sum"]]
                     if pools:
                         c_src = pools[src][1] if label == "first half" else whole_pool[src]
                         c = pool_transfer_nrmse(c_src, pools[dst][0], fits[dst].recorded, pools[dst][1])
-                        row.append(f"**{c['completed_pool']:.1f}**")
+                        carried.append(c["completed_pool"])
+                    best = min(range(len(carried)), key=carried.__getitem__)   # the lowest carried NRMSE in bold
+                    row = [f"{src} -> {dst}", label] + [f"**{v:.1f}**" if i == best else f"{v:.1f}"
+                                                        for i, v in enumerate(carried)]
                     row += [f"{s['human_units_own']:.1f}", f"{s['twitch_sum_own']:.1f}"]
                     if pools:
                         row.append(f"{c['completed_pool_own']:.1f}")

@@ -19,7 +19,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     help="contraction level (%% MVC) of the plateau, to normalise a raw force (default: from a "
                          "Caillet file name; openhdemg forces are taken as %% MVC)")
     dp.add_argument("--calibration-fraction", type=float, default=0.5,
-                    help="share of the trial fitted on (default 0.5); the rest is held out")
+                    help="share of the contraction (from rest to rest) fitted on (default 0.5); the rest is held out")
     dp.add_argument("--dt-ms", type=float, default=0.05, help="fixed step of the muscle units (ms)")
     dp.add_argument("--overwrite", action="store_true", help="replace an existing report in --out")
     dp.set_defaults(func=run)

@@ -27,7 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..parameters import load_parameters
-from .discharges import DischargeTrial, RecordedDischarges, load_caillet
+from .discharges import REST_MARGIN_MS, REST_PERCENT_MVC, DischargeTrial, RecordedDischarges, load_caillet
 from .human_units import SPEED_GRID, HumanUnitFit, SpeedBases, fit_human_units, speed_bases
 from .openhdemg_files import KINDS, load_openhdemg
 from .twitch_sum import TwitchSumFit, fit_twitch_sum
@@ -181,8 +181,9 @@ def _write_h5(path: Path, t_ms: np.ndarray, y: np.ndarray, trial: DischargeTrial
 def run_discharges(path: str | Path, out: str | Path, *, fmt: str = "auto", level_percent_mvc: float | None = None,
                    calibration_fraction: float = 0.5, dt_ms: float = 0.05, overwrite: bool = False
                    ) -> dict[str, Any]:
-    """Read ``path``, fit both models, write :data:`FILES` into ``out``; returns the summary (also in
-    discharges.json).  Nothing is written when the file or ``out`` is refused."""
+    """Read ``path``, fit both models on the whole contraction (:meth:`RecordedDischarges.trial` from rest), write
+    :data:`FILES` into ``out``; returns the summary (also in discharges.json).  Nothing is written when the file or
+    ``out`` is refused."""
     from ..reports.outdir import check_out_dir, prepare_out_dir, write_text
 
     if not 0.05 <= calibration_fraction <= 0.95:
@@ -190,7 +191,7 @@ def run_discharges(path: str | Path, out: str | Path, *, fmt: str = "auto", leve
                          f"{calibration_fraction}")
     check_out_dir(out, overwrite, FILES)
     rec = read_discharges(path, fmt, level_percent_mvc)
-    trial = rec.trial(pad_ms=1000.0)
+    trial = rec.trial(pad_ms=1000.0, from_rest=True)
     t0 = time.time()
     fits = fit_both(trial, calibration_fraction=calibration_fraction, dt_ms=dt_ms)
     t, y, thresholds, human, reference = fits.t_ms, fits.recorded, fits.thresholds_percent_mvc, fits.human, \
@@ -203,7 +204,9 @@ def run_discharges(path: str | Path, out: str | Path, *, fmt: str = "auto", leve
                "wall_s": round(time.time() - t0, 1)}
     fmt = resolved_format(src, fmt)
     fields = {"input_file": str(src.resolve()), "input_sha256": file_sha256(src), "format": fmt,
-              "trial_start_ms": trial.start_ms, "dt_ms": dt_ms, "speed_grid": list(SPEED_GRID),
+              "trial_start_ms": trial.start_ms, "trial_duration_ms": trial.duration_ms,
+              "window": f"from rest to rest ({REST_PERCENT_MVC:g} % MVC, {REST_MARGIN_MS:g} ms margins)",
+              "dt_ms": dt_ms, "speed_grid": list(SPEED_GRID),
               "muscle_set": BASE_SET, "parameters": dict(load_parameters(BASE_SET).values), "length_mm": LENGTH_MM,
               "calibration_fraction": calibration_fraction, "level_percent_mvc": rec.level_percent_mvc}
     if fmt.startswith("openhdemg"):

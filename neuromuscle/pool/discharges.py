@@ -2,6 +2,7 @@
 
     rec = load_caillet("S1_30_256.mat")               # level (% MVC) read from the name; level_percent_mvc= else
     trial = rec.trial(pad_ms=1000.0)                  # the window the discharges cover, times from its start
+    whole = rec.trial(from_rest=True)                 # ... and the whole contraction, from rest to rest
     pool.drive_discharges(trial.discharges_ms, trial.duration_ms)   # recruitment order = the pool's unit order
 
 File layout (MATLAB .mat, ``scipy.io.loadmat``): ``MUPulses`` a 1 x n cell of discharge sample indices (one row a
@@ -26,6 +27,10 @@ from ..validate import positive_number, time_order_problem
 
 #: Fraction of the baseline-to-99th-percentile span above which force samples count as the plateau.
 PLATEAU_FRACTION = 0.8
+#: Force (% MVC) at or below which the muscle counts as at rest (:meth:`RecordedDischarges.rest_times_ms`).
+REST_PERCENT_MVC = 1.0
+#: Time (ms) a window taken from rest keeps before the force leaves rest and after it returns.
+REST_MARGIN_MS = 500.0
 
 
 @dataclass(frozen=True)
@@ -75,13 +80,31 @@ class RecordedDischarges:
         first = np.array([d[0] for d in self.discharges_ms])
         return np.lexsort((first, self.thresholds_percent_mvc()))
 
-    def trial(self, pad_ms: float = 1000.0) -> DischargeTrial:
+    def rest_times_ms(self, rest_percent_mvc: float = REST_PERCENT_MVC) -> tuple[float, float]:
+        """When the muscle was last at rest before the first discharge and first at rest again after the last one
+        (ms): the force at or below ``rest_percent_mvc`` (% MVC).  The record's start (end) when it never is."""
+        t, y = self.force_t_ms, self.force_percent_mvc
+        first = min(d[0] for d in self.discharges_ms)
+        last = max(d[-1] for d in self.discharges_ms)
+        before = np.flatnonzero((t < first) & (y <= rest_percent_mvc))
+        after = np.flatnonzero((t > last) & (y <= rest_percent_mvc))
+        return (float(t[before[-1]]) if before.size else 0.0, float(t[after[0]]) if after.size else float(t[-1]))
+
+    def trial(self, pad_ms: float = 1000.0, from_rest: bool = False,
+              rest_percent_mvc: float = REST_PERCENT_MVC) -> DischargeTrial:
         """The window from ``pad_ms`` (ms) before the first discharge to ``pad_ms`` after the last one (within the
-        force record), discharges in recruitment order with times from the window's start."""
+        force record), discharges in recruitment order with times from the window's start.  ``from_rest``: the
+        window also covers the whole contraction, from :data:`REST_MARGIN_MS` before the force last left rest
+        (:meth:`rest_times_ms`) to as long after it came back, so that a model starts and ends at rest as the
+        muscle did even where the decomposition found no unit of the lowest thresholds."""
         pad = positive_number("pad_ms", pad_ms)
         t = self.force_t_ms
-        start = max(0.0, min(d[0] for d in self.discharges_ms) - pad)
-        end = min(float(t[-1]), max(d[-1] for d in self.discharges_ms) + pad)
+        start = min(d[0] for d in self.discharges_ms) - pad
+        end = max(d[-1] for d in self.discharges_ms) + pad
+        if from_rest:
+            rest_before, rest_after = self.rest_times_ms(rest_percent_mvc)
+            start, end = min(start, rest_before - REST_MARGIN_MS), max(end, rest_after + REST_MARGIN_MS)
+        start, end = max(0.0, start), min(float(t[-1]), end)
         order = self.recruitment_order()
         sel = (t >= start) & (t <= end)
         return DischargeTrial(str(self.path), start, end - start, [self.discharges_ms[i] - start for i in order],

@@ -37,6 +37,37 @@ def test_real_files_load_in_ms_and_percent_mvc(name, units, level):
         assert trial.start_ms + trial.duration_ms < 36_000.0
 
 
+@needs_data
+def test_a_window_from_rest_covers_the_ramp_no_unit_was_found_for():
+    # S1_50_64L's lowest decomposed unit is recruited at 23 % MVC, 4.6 s after the force left rest
+    rec = load_caillet(CAILLET / "S1_50_64L.mat")
+    near = rec.trial(pad_ms=1000.0)
+    whole = rec.trial(pad_ms=1000.0, from_rest=True)
+    assert near.force_percent_mvc[0] > 15.0 and abs(np.median(whole.force_percent_mvc[:500])) < 3.0  # rest
+    left, back = rec.rest_times_ms()
+    assert whole.start_ms == pytest.approx(left - 500.0, abs=1.0) and left < min(d[0] for d in rec.discharges_ms)
+    assert whole.start_ms + whole.duration_ms >= max(d[-1] for d in rec.discharges_ms) + 1000.0
+    assert whole.start_ms + whole.duration_ms == pytest.approx(min(back + 500.0, rec.force_t_ms[-1]), abs=1.0)
+    first = [d[0] + whole.start_ms for d in whole.discharges_ms]
+    assert np.allclose(sorted(first), sorted(d[0] for d in rec.discharges_ms))  # the same discharges, shifted
+
+
+def test_rest_times_are_where_the_force_last_leaves_and_first_returns_to_rest(tmp_path):
+    ref = np.concatenate([np.zeros(2000), np.linspace(0, 1, 1000), np.ones(3000), np.linspace(1, 0, 1000),
+                          np.zeros(1000)]) + 0.5
+    pulses = np.empty((1, 1), dtype=object)
+    pulses[0, 0] = np.array([[3500, 3600, 5900]], dtype=np.int32)
+    scipy.io.savemat(tmp_path / "X_20.mat", {"MUPulses": pulses, "fsamp": np.array([[1000.0]]),
+                                             "ref_signal": ref[None, :]})
+    rec = load_caillet(tmp_path / "X_20.mat")
+    left, back = rec.rest_times_ms()  # 1 % MVC of a 20 % plateau: 1/20 of each ramp
+    assert left == pytest.approx(2049.0, abs=2.0) and back == pytest.approx(6951.0, abs=2.0)
+    whole = rec.trial(pad_ms=200.0, from_rest=True)
+    assert whole.start_ms == pytest.approx(left - 500.0, abs=1.0)
+    assert whole.start_ms + whole.duration_ms == pytest.approx(back + 500.0, abs=1.0)
+    assert rec.trial(pad_ms=200.0).start_ms == pytest.approx(3299.0)
+
+
 def _good(**change):
     pulses = np.empty((1, 2), dtype=object)
     pulses[0, 0] = np.array([[3000, 3200, 3400]], dtype=np.int32)
