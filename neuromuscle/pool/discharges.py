@@ -23,7 +23,7 @@ from typing import Sequence
 import numpy as np
 
 from ..errors import InputError
-from ..validate import positive_number, time_order_problem
+from ..validate import finite_number, positive_number, time_order_problem
 
 #: Fraction of the baseline-to-99th-percentile span above which force samples count as the plateau.
 PLATEAU_FRACTION = 0.8
@@ -83,11 +83,12 @@ class RecordedDischarges:
     def rest_times_ms(self, rest_percent_mvc: float = REST_PERCENT_MVC) -> tuple[float, float]:
         """When the muscle was last at rest before the first discharge and first at rest again after the last one
         (ms): the force at or below ``rest_percent_mvc`` (% MVC).  The record's start (end) when it never is."""
+        rest = finite_number(f"{self.path}: rest_percent_mvc", rest_percent_mvc)
         t, y = self.force_t_ms, self.force_percent_mvc
         first = min(d[0] for d in self.discharges_ms)
         last = max(d[-1] for d in self.discharges_ms)
-        before = np.flatnonzero((t < first) & (y <= rest_percent_mvc))
-        after = np.flatnonzero((t > last) & (y <= rest_percent_mvc))
+        before = np.flatnonzero((t < first) & (y <= rest))
+        after = np.flatnonzero((t > last) & (y <= rest))
         return (float(t[before[-1]]) if before.size else 0.0, float(t[after[0]]) if after.size else float(t[-1]))
 
     def trial(self, pad_ms: float = 1000.0, from_rest: bool = False,

@@ -66,6 +66,8 @@ def test_rest_times_are_where_the_force_last_leaves_and_first_returns_to_rest(tm
     assert whole.start_ms == pytest.approx(left - 500.0, abs=1.0)
     assert whole.start_ms + whole.duration_ms == pytest.approx(back + 500.0, abs=1.0)
     assert rec.trial(pad_ms=200.0).start_ms == pytest.approx(3299.0)
+    with pytest.raises(InputError, match=r"X_20\.mat: rest_percent_mvc"):
+        rec.trial(from_rest=True, rest_percent_mvc=float("nan"))
 
 
 def _good(**change):
