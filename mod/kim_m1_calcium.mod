@@ -62,8 +62,6 @@ ASSIGNED {
     tstep (ms)
     atil (1)
     xm (mm)
-    release_gain (1)
-    uptake_gain (1)
 }
 
 INCLUDE "kim_m1_calcium.inc"
@@ -97,14 +95,3 @@ DERIVATIVE states {
     S12' = a7 - b7*S12
 }
 
-PROCEDURE ca_gains() {
-    : the modulation ports, read only when an extension drives them (use_ports = 1, set by the Python wiring);
-    : otherwise the neutral 1, with no pointer dereference per step (and nothing to set for a hoc user)
-    if (use_ports) {
-        rg = release_gain
-        ug = uptake_gain
-    } else {
-        rg = 1
-        ug = 1
-    }
-}

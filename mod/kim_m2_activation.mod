@@ -75,8 +75,6 @@ ASSIGNED {
     phi1 (/mm)
     phi2 (1)
     xopt (mm)
-    tauA_gain (1)
-    C1_shift (1)
     xm (mm)
     vm (mm/s)
 }
@@ -111,14 +109,4 @@ DERIVATIVE states {
     }
     tstep = t
     atil' = (Ainf - atil)*kAd
-}
-
-PROCEDURE act_ports(x (1)) {
-    : the modulation ports, read only when an extension drives them (use_ports = 1)
-    if (use_ports) {
-        kA = kA/tauA_gain
-        if (C1_shift != 0) {
-            Ainf = 1/(1 + exp(-2*(x - C1 - C1_shift)/C2))
-        }
-    }
 }

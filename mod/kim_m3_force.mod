@@ -103,8 +103,6 @@ ASSIGNED {
     tstep (ms)
     act (1)
     xm (mm)
-    force_offset (N)
-    capacity_gain (1)
     asw (1)
     ssw (1)
 }
@@ -153,22 +151,4 @@ DERIVATIVE states {
     tstep = t
     dxce' = aa - bb*dxce
     se_force()
-}
-
-PROCEDURE read_capacity() {
-    : the force capacity's gain capg (1): the modulation port when an extension drives it (use_ports = 1), else 1
-    if (use_ports) {
-        capg = capacity_gain
-    } else {
-        capg = 1
-    }
-}
-
-PROCEDURE force_output() {
-    : the output F (N): the SE force plus the modulation port (read only when use_ports = 1)
-    if (use_ports) {
-        F = Fse + force_offset
-    } else {
-        F = Fse
-    }
 }

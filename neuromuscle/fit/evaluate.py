@@ -7,8 +7,9 @@
   integration; each simulation builds and tears down its unit).
 * **Packed runs** (:func:`simulate_pairs`).  The (parameter set, trial) pairs of one call run together, as units
   of one NEURON run (up to ``BATCH_UNITS``), the runs of one trial and of trials of similar duration alike: a lone
-  unit spends most of each step in NEURON's per-mechanism overhead, which the units of a run share.  Each unit's
-  force is bit for bit its own run's (``neuromuscle.sim.simulate_protocols``).
+  unit spends most of each step in NEURON's per-mechanism overhead, which the units of a run share.  Each unit is
+  the fused KimUnit (with its extensions), whose force is bit for bit the three mechanisms' at a lower cost per
+  step, and bit for bit its own run's (``neuromuscle.sim.simulate_protocols``).
 * **Trial pool** (:class:`TrialPool`, ``fit(..., workers=N)`` or ``fit(..., pool=)``).  The work is split into
   packed runs, longest first, small enough that every worker gets several: a single candidate (a trust-region
   step, the final run, the half-step re-run of the intervals) then uses every worker too, and a Jacobian's
@@ -30,7 +31,7 @@ import numpy as np
 from ..errors import InputError, NumericalError
 from ..measured import Trial
 from ..measured.simulation import trial_clock
-from ..model.kim import kim_excitation
+from ..model.kim_unit import kim_fused
 from ..parameters import ParameterSet
 from ..sim import simulate_protocols
 
@@ -113,7 +114,7 @@ def simulate_pairs(pairs: Sequence[tuple[ParameterSet, Trial, SimulationOptions]
         results = simulate_protocols(
             [(pairs[c][0], {name: {} for name in pairs[c][2].extensions} or None, index[id(pairs[c][1])])
              for c in pack], protocols,
-            excitation=kim_excitation(opts.length_compensation, opts.movement_compensation), record=("force.F",),
+            excitation=kim_fused(opts.length_compensation, opts.movement_compensation), record=("muscle.F",),
             dt_ms=opts.dt_ms, record_dt_ms=opts.dt_ms if opts.record_dt_ms is None else opts.record_dt_ms)
         for c, res in zip(pack, results):
             t_ms = clocks[(id(pairs[c][1]), opts.settle_ms)][0]

@@ -1,11 +1,15 @@
-"""Kim Modules 1-3 as one mechanism (mod/KimUnit.mod, KimUnit): the three-mechanism unit's numbers at lower cost.
+"""Kim Modules 1-3 as one mechanism (mod/kim_unit.mod, KimUnit): the three-mechanism unit's numbers at lower cost.
 
     unit = MuscleUnit(p, excitation=kim_fused())                         # the fused unit (no contraction slot)
     unit = MuscleUnit(p, excitation=kim_fused(substeps=4))               # muscle updated every 4th membrane step
+    unit = MuscleUnit(p, excitation=kim_fused(), extensions={"fatigue": {}})
 
 The parameters are KimCalcium's, KimActivation's and KimForce's, read from a parameter set under their own names
-(kim_m1.K1, kim_m2.C1, kim_m3.P0), so the same set drives either unit.  The fused mechanism has no modulation
-ports: a model extension needs the three mechanisms (``MuscleUnit`` refuses the combination).  Units: ms, M, mm, N.
+(kim_m1.K1, kim_m2.C1, kim_m3.P0), so the same set drives either unit.  The fused mechanism has the three
+mechanisms' modulation ports under their names, and stands for their slots ("ca", "act", "force") in what
+extensions target and read ("ca.release_gain", "force.dxce"): a unit with extensions gives the three mechanisms'
+numbers bit for bit.  Its own variables are recorded under its slot ("muscle.F", "muscle.CaSPT").  Units: ms, M,
+mm, N.
 """
 
 from __future__ import annotations
@@ -29,7 +33,11 @@ class KimUnit(Component):
     receives_spikes = True
     output = "F"
     parameters: tuple[Param, ...] = tuple(p for m in _MODULES for p in m.parameters)
-    reads = (Port("xm", "mm", "length.xm"), Port("vm", "mm/s", "length.vm"))
+    #: the three-mechanism unit's slots this component stands for (``MuscleUnit`` resolves them to it)
+    stands_for = ("ca", "act", "force")
+    modules = _MODULES
+    reads = (Port("xm", "mm", "length.xm"), Port("vm", "mm/s", "length.vm"),
+             *(q for m in _MODULES for q in m.reads if q.source is None))
     exposes = {**{k: v for m in _MODULES for k, v in m.exposes.items()}}
     states = tuple(s for m in _MODULES for s in m.states)
     _owner = {p.name: m for m in _MODULES for p in m.parameters}

@@ -56,8 +56,8 @@ class PoolDefinition:
     decerebrate cat's; see ``motoneuron``).  ``extensions``: {unit index: {extension: {param: value}}} or one
     mapping for every unit (key "all").  ``motoneuron_overrides``: fields replaced in every motoneuron;
     ``motoneuron_scales``: factors on its size-dependent parameters (``motoneuron_parameters``).
-    ``muscle_model``: "modules" (KimCa, KimAct, KimForce: takes extensions) or "fused" (KimUnit: the same numbers,
-    faster, no extensions); ``muscle_substeps`` k (fused only): the muscle advances every k membrane steps.
+    ``muscle_model``: "modules" (KimCa, KimAct, KimForce) or "fused" (KimUnit: the same numbers, faster; both
+    take extensions); ``muscle_substeps`` k (fused only): the muscle advances every k membrane steps.
     ``size_spacing``: how sizes spread over the ranks (``size_index``).  ``p0_N``: every unit's P0 (N, recruitment
     order) instead of the exponential spread.
     ``motoneuron_channels``: "fused" (mn_soma + mn_pic, tabulated rates) or "separate" (one mechanism per channel,
@@ -112,9 +112,6 @@ class PoolDefinition:
         if k > 1 and self.muscle_model != "fused":
             raise InputError(f"{where}: muscle_substeps = {k} needs muscle_model='fused' (the three mechanisms "
                              "advance every step)")
-        if self.muscle_model == "fused" and any(self.extensions.values()):
-            raise InputError(f"{where}: extensions need muscle_model='modules' (the fused KimUnit has no "
-                             "modulation ports)")
         if self.motoneuron_channels not in CHANNELS:
             raise InputError(f"{where}: motoneuron_channels must be one of {', '.join(CHANNELS)}, got "
                              f"{self.motoneuron_channels!r}")

@@ -7,7 +7,9 @@
     unit = MuscleUnit(p, excitation=kim_fused())                      # Modules 1-3 in one mechanism (faster)
 
 A component that both receives spikes and has an output (KimUnit, ``kim_fused``) is a whole muscle model: it is given as
-``excitation`` with no ``contraction``.  Each slot holds one component ("length", "ca", "act", "force", and one per
+``excitation`` with no ``contraction``; the slots it ``stands_for`` ("ca", "act", "force") name it in what extensions
+target and read, so an extension written for the three mechanisms drives it (its variables are recorded under its
+own slot, "muscle.F").  Each slot holds one component ("length", "ca", "act", "force", and one per
 extension).  Every POINTER of every component is wired at construction: to the variable its port names ("act.A"), to an
 extension that targets it, or, for an unused modulation port, to the mechanism's own neutral value.  ``connect_from``
 takes spikes from any NetCon source, ``add_spike_times`` from a recording; ``destroy()`` (or ``with``) removes
@@ -86,11 +88,9 @@ class MuscleUnit:
                              f"contraction already; give no contraction (got {contraction!r})")
         con = {} if whole else _slots(contraction, CONTRACTIONS, "contraction")
         exts: dict[str, Extension] = make_extensions(extensions)
-        if whole and exts:
-            raise InputError(f"{name}: model extensions ({', '.join(exts)}) drive the modulation ports of KimCa, "
-                             "KimAct and KimForce; the fused KimUnit has none: use the three-mechanism unit "
-                             "(excitation='kim') with extensions")
-        clash = (set(exc) & set(con)) | ((set(exc) | set(con)) & (set(exts) | {"length"}))
+        #: slot names that resolve to another slot (the fused KimUnit stands for "ca", "act" and "force")
+        self._aliases = {a: slot for slot, c in exc.items() for a in getattr(c, "stands_for", ())}
+        clash = (set(exc) & set(con)) | ((set(exc) | set(con) | set(self._aliases)) & (set(exts) | {"length"}))
         if clash:
             raise InputError(f"{name}: slot(s) {sorted(clash)} used twice")
         outputs = [s for s, c in (*exc.items(), *con.items()) if c.output]
@@ -118,8 +118,9 @@ class MuscleUnit:
             comp.instantiate(seg, params)
             self.components[slot] = comp
         self._wire(exts, seg)
+        view = {**self.components, **{a: self.components[s] for a, s in self._aliases.items()}}
         for ext in exts.values():
-            ext.attach(self.components, params)  # a switch extension turns its baseline equation on
+            ext.attach(view, params)  # a switch extension turns its baseline equation on
         if initial_state not in INITIAL_STATES:
             raise InputError(f"{name}: initial_state must be one of {', '.join(INITIAL_STATES)}, got {initial_state!r}")
         self.initial_state = initial_state
@@ -143,7 +144,7 @@ class MuscleUnit:
         sources: dict[str, list[str]] = {}
         for slot, ext in exts.items():
             for port, var in ext.targets.items():
-                sources.setdefault(port, []).append(f"{slot}.{var}")
+                sources.setdefault(self._resolved(port), []).append(f"{slot}.{var}")
         combiners: dict[str, Component] = {}
         driven = {port: self._combined(port, srcs, seg, combiners) for port, srcs in sources.items()}
         for slot, comp in self.components.items():
@@ -151,7 +152,7 @@ class MuscleUnit:
             for port in comp.reads:
                 key = f"{slot}.{port.name}"
                 if port.optional:
-                    src_slot, _, src_var = str(port.source).partition(".")
+                    src_slot, _, src_var = self._resolved(str(port.source)).partition(".")
                     has = src_slot in self.components and src_var in self.components[src_slot].recordables()
                     setattr(comp.obj, f"_ref_{port.name}", self.ref(port.source) if has else comp.ref(port.neutral))
                     if port.enables:
@@ -196,13 +197,20 @@ class MuscleUnit:
     def __getattr__(self, slot: str) -> Any:
         """``unit.ca``, ``unit.force``, ...: the hoc point process of a slot (hoc-style scripting)."""
         comps = self.__dict__.get("components", {})
+        slot = self.__dict__.get("_aliases", {}).get(slot, slot)
         if slot in comps:
             return comps[slot].obj
         raise AttributeError(slot)
 
+    def _resolved(self, name: str) -> str:
+        """``"slot.variable"`` with the slot an alias names replaced by its own ("ca.CaSPT" -> "muscle.CaSPT" in a
+        fused unit)."""
+        slot, dot, var = name.partition(".")
+        return f"{self.__dict__.get('_aliases', {}).get(slot, slot)}{dot}{var}"
+
     def __getitem__(self, slot: str) -> Component:
         try:
-            return self.components[slot]
+            return self.components[self.__dict__.get("_aliases", {}).get(slot, slot)]
         except KeyError:
             raise InputError(f"{self.name}: no slot {slot!r}; slots: {', '.join(self.components)}") from None
 

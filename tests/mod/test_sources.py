@@ -6,8 +6,10 @@ import re
 
 from neuromuscle.model import mechanisms
 
-#: Files named for the order NEURON must advance them in (Module 1, 2, 3), not after their mechanism.
-ORDERED = {"kim_m1_calcium.mod": "KimCa", "kim_m2_activation.mod": "KimAct", "kim_m3_force.mod": "KimForce"}
+#: Files named for the order NEURON must advance them in (Module 1, 2, 3; the muscle after what drives or reads
+#: it), not after their mechanism.
+ORDERED = {"kim_m1_calcium.mod": "KimCa", "kim_m2_activation.mod": "KimAct", "kim_m3_force.mod": "KimForce",
+           "kim_unit.mod": "KimUnit"}
 
 #: The benchmark of the published integration scheme: the same equations written the authors' way on purpose.
 INDEPENDENT = {"KimPublished.mod"}
@@ -36,14 +38,17 @@ def test_each_file_is_named_after_its_mechanism():
 def test_the_modules_and_what_they_read_register_in_order_in_any_locale():
     """nrnivmodl registers files in name order (the package builds in the C locale; a hoc user's locale may sort
     case-insensitively): Module 1 before 2 before 3, and the extensions and Hatze's excitation, which feed the
-    modules' ports and KimForce, before them."""
+    modules' ports and KimForce, before them; the fused KimUnit where the three are, relative to every other
+    mechanism (so what drives or reads the muscle sees the same step of it in both forms)."""
     names = [f.name for f in _mods()]
     for order in (sorted(names), sorted(names, key=str.lower)):
         pos = {n: order.index(n) for n in names}
-        m1, m2, m3 = (pos[n] for n in ORDERED)
+        m1, m2, m3, fused = (pos[n] for n in ORDERED)
         assert m1 < m2 < m3
         feeders = [n for n in names if n.startswith(("Ext", "Hatze"))]
-        assert feeders and all(pos[n] < m1 for n in feeders)
+        assert feeders and all(pos[n] < m1 and pos[n] < fused for n in feeders)
+        others = [n for n in names if n not in ORDERED]
+        assert all((pos[n] < m1) == (pos[n] < fused) and (pos[n] < m3) == (pos[n] < fused) for n in others)
 
 
 def _equations(text):
@@ -75,7 +80,7 @@ def test_no_equation_is_written_twice():
 def test_the_fused_mechanisms_include_their_modules_equations():
     includes = {f.name: set(re.findall(r'^INCLUDE "([\w.]+)"', f.read_text(), re.M)) for f in _mods()}
     # fixed_step.inc: the step count every mechanism that advances its own states shares (secondorder)
-    assert includes["KimUnit.mod"] == {"kim_m1_calcium.inc", "kim_m2_activation.inc", "kim_m3_force.inc",
+    assert includes["kim_unit.mod"] == {"kim_m1_calcium.inc", "kim_m2_activation.inc", "kim_m3_force.inc",
                                        "fixed_step.inc"}
     assert includes["mn_soma.mod"] == {"mn_naf.inc", "mn_kdr.inc", "mn_can.inc", "mn_cadyn.inc", "mn_kca.inc",
                                        "fixed_step.inc"}

@@ -1,13 +1,15 @@
-"""The fused Kim unit (mod/KimUnit.mod, KimUnit) against the three-mechanism unit (KimCa, KimAct, KimForce):
+"""The fused Kim unit (mod/kim_unit.mod, KimUnit) against the three-mechanism unit (KimCa, KimAct, KimForce):
 bit-identical under the fixed step and, for one unit, under CVODE (the same right-hand side), for a twitch,
-trains, and random length with and without movement compensation; the muscle-every-k-steps option converges to
-it; extensions and a contraction beside it are refused."""
+trains, and random length with and without movement compensation, and with every catalogue extension driving its
+modulation ports (two on one port through PortCombine too); the muscle-every-k-steps option converges to it; a
+contraction beside it is refused."""
 
 import numpy as np
 import pytest
 
 from neuromuscle import InputError, MuscleUnit, simulate
 from neuromuscle.model import kim_excitation, kim_fused
+from neuromuscle.model.extensions import registry
 from neuromuscle.protocols.lengths import random_length
 
 THREE = ["force.F", "act.A", "act.atil", "ca.CaSPT", "ca.CaSR", "force.Fc"]
@@ -73,11 +75,27 @@ def test_substeps_converge_to_the_every_step_update(ct09):
     assert errs[2] < 0.01                        # k = 8 (0.2 ms muscle step; measured 0.23 %): under 1 % of peak
 
 
-def test_extensions_and_a_second_contraction_are_refused(ct09):
+@pytest.mark.parametrize("names", [(n,) for n in registry()] + [("fatigue", "staircase", "post_activation_potentiation")],
+                         ids=lambda names: "+".join(names))
+def test_extensions_drive_the_fused_ports_bit_for_bit(ct09, names):
+    # random length with movement compensation, eq 18 off: every extension acts (its defaults are not neutral,
+    # eq 18 is one of them) and every port is read; three gains on KimCa's release_gain meet in a chain of
+    # PortCombines
+    extensions = {n: {} for n in names}
+    trace = random_length(1500.0, seed=3)
+    spikes = list(30.0 + 25.0 * np.arange(55))
+    three = simulate(ct09, spikes, trace, 1500.0, excitation=kim_excitation(False, True), extensions=extensions,
+                     record=THREE)
+    fused = simulate(ct09, spikes, trace, 1500.0, excitation=kim_fused(False, True), extensions=extensions,
+                     record=FUSED)
+    plain = simulate(ct09, spikes, trace, 1500.0, excitation=kim_fused(False, True), record=["muscle.F"])
+    assert np.max(np.abs(fused["muscle.F"] - plain["muscle.F"])) > 1e-3   # the extension changed the force
+    _assert_identical(three, fused)
+
+
+def test_a_second_contraction_is_refused(ct09):
     with pytest.raises(InputError, match="no contraction"):
         MuscleUnit(ct09, excitation=kim_fused(), contraction="kim")
-    with pytest.raises(InputError, match="fused KimUnit has none"):
-        MuscleUnit(ct09, excitation=kim_fused(), extensions={"fatigue": {}})
     with pytest.raises(InputError, match="substeps"):
         kim_fused(substeps=0)
 

@@ -1,5 +1,5 @@
 """Pools of fused muscle units (PoolDefinition(muscle_model="fused"), KimUnit): the same spikes and forces, bit for
-bit, as pools of the three Kim mechanisms; the muscle every k membrane steps stays within a stated error of the
+bit, as pools of the three Kim mechanisms, with extensions too; the muscle every k membrane steps stays within a stated error of the
 every-step pool; impossible combinations are refused.  (Two MPI ranks: tests/pool/test_mpi.py.)"""
 
 import numpy as np
@@ -28,6 +28,14 @@ def test_fused_pool_is_bit_identical_to_the_modules_pool(ct09, modules_run):
     assert np.array_equal(modules_run.unit_force_N, fused.unit_force_N)
 
 
+def test_fused_pool_with_extensions_is_bit_identical_to_the_modules_pool(ct09, modules_run):
+    extensions = {"all": {"fatigue": {"k": 0.05}}, 0: {"staircase": {}}}
+    modules = _ramp_pool(ct09, extensions=extensions)
+    fused = _ramp_pool(ct09, muscle_model="fused", extensions=extensions)
+    assert not np.array_equal(modules.unit_force_N, modules_run.unit_force_N)   # the extensions act
+    assert np.array_equal(modules.unit_force_N, fused.unit_force_N)
+
+
 def test_substeps_error_is_small_and_grows_with_k(ct09, modules_run):
     peak = modules_run.pool_force_N.max()
     errs = [np.max(np.abs(_ramp_pool(ct09, muscle_model="fused", muscle_substeps=k).pool_force_N
@@ -38,8 +46,6 @@ def test_substeps_error_is_small_and_grows_with_k(ct09, modules_run):
 @pytest.mark.parametrize("bad, message", [(dict(muscle_model="hill"), "muscle_model"),
                                           (dict(muscle_substeps=4), "needs muscle_model='fused'"),
                                           (dict(muscle_model="fused", muscle_substeps=0), "muscle_substeps"),
-                                          (dict(muscle_model="fused", extensions={"all": {"fatigue": {}}}),
-                                           "extensions need"),
                                           (dict(motoneuron_channels="hh"), "motoneuron_channels")])
 def test_impossible_fused_definitions_are_refused(ct09, bad, message):
     with pytest.raises(InputError, match=message):

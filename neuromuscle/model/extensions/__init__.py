@@ -111,7 +111,7 @@ class SwitchExtension(Extension):
     def attach(self, components: Mapping[str, Component], params: Mapping[str, float] | None) -> None:
         """Switch the owner's equation on and set the parameters given to this extension on its mechanism."""
         comp = components.get(self.slot)
-        if not isinstance(comp, self.owner):
+        if not (isinstance(comp, self.owner) or self.owner in getattr(comp, "modules", ())):
             found = type(comp).__name__ if comp is not None else "nothing"
             raise InputError(f"extension {self.name!r} switches an equation of {self.owner.__name__} (slot "
                              f"{self.slot!r}); this unit has {found} there: use the Kim excitation")

@@ -12,8 +12,17 @@ length per step), one per-instance loop instead of three, no Jacobian loops, the
 Read the three files' headers for the equations, units and numerics; only what differs is written here.
 
 Coupling: POINTER xm, vm -> muscle length (mm) and velocity (mm/s) of a MuscleLength point process (one per rank
-in a pool).  No modulation ports: model extensions need the three mechanisms (the Python wiring refuses them).
+in a pool).  The six modulation ports of the three mechanisms, with the same names and meaning (release_gain,
+uptake_gain: KimCa; tauA_gain, C1_shift: KimAct; force_offset, capacity_gain: KimForce), read only when
+use_ports = 1 (the Python wiring sets it when an extension is attached, and points unused ones at RANGE unity or
+zero); with use_ports = 0 (default) they need not be set.  A unit with extensions gives the three mechanisms'
+numbers bit for bit too: each port is read in the step where the three mechanisms read it (the extensions and
+PortCombine register before this file).
 Spikes: NET_RECEIVE with weight w, as KimCa.
+
+Registration order: this file's lower-case name places it after every other muscle mechanism (extensions,
+PortCombine, afferents, MuscleLength), as the three Kim mechanisms' files are: whatever reads the unit (a tendon
+organ's force) or drives it (an extension's gain) sees the same step of it in both forms.
 
 Order within a step, as NEURON runs the three mechanisms (KimCa, KimAct, KimForce are registered in that order):
 Module 1 with the previous step's Atil, Module 2 with the new [CaSPT], Module 3 with the new A.
@@ -45,11 +54,11 @@ NEURON {
     RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, fcmin, F0, subtol, nsubmax
     RANGE F, Fse, Fc, vce, nasym, xce, x0, nsub, nsplit
     : the unit
-    RANGE rest, substeps, tstep
+    RANGE rest, substeps, tstep, use_ports, unity, zero
     : intermediates set and used within one instance's evaluation (per instance: CoreNEURON takes no GLOBAL
     : assigned during a run)
     RANGE a1, a2, a3, a4, a5, a6, a7, b1, b2, b3, b4, b5, b6, b7, kA, kAd, dvdF, aa, bb, dfdx, kse, al, xl
-    POINTER xm, vm
+    POINTER xm, vm, release_gain, uptake_gain, tauA_gain, C1_shift, force_offset, capacity_gain
 }
 
 UNITS {
@@ -58,6 +67,9 @@ UNITS {
 
 PARAMETER {
     rest = 1 (1)
+    use_ports = 0 (1)
+    unity = 1 (1)
+    zero = 0 (1)
     substeps = 1 (1)
     variable_step = 0 (1)
 }
@@ -84,7 +96,7 @@ INITIAL {
     zeroed = 0
     act_initial(CaSPT, xl, vm)
     al = A
-    capg = 1
+    read_capacity()
     ce_initial()
     tstep = t
 }
@@ -144,6 +156,7 @@ PROCEDURE rhs_all() {
     kAd = kA
     activation(t, 1, xl, vm)
     al = A
+    read_capacity()
     ce_rhs()
 }
 
@@ -167,22 +180,8 @@ PROCEDURE step_all(h (ms)) {
     : Module 3 with the new A, then its report at the step's end
     al = A
     sw = ssw
+    read_capacity()
     ce_fixed_step(h)
     dxce = dxce + h*acs
     ce_report()
-}
-
-PROCEDURE ca_gains() {
-    : no modulation ports
-    rg = 1
-    ug = 1
-}
-
-PROCEDURE act_ports(x (1)) {
-    : no modulation ports
-}
-
-PROCEDURE force_output() {
-    : no modulation ports: the output is the SE force
-    F = Fse
 }
