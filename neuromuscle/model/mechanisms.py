@@ -10,13 +10,13 @@ What each mechanism reads and exposes is declared by its component (``neuromuscl
 ``.length``, ``.extensions``); the required set below is derived from them.  The benchmark's KimPublished is
 compiled too (so ``nrnivmodl mod`` gives hoc users everything) but is not required.
 
-Each mod file is named after the mechanism it defines (``ExtFatigue.mod`` holds ExtFatigue), except the Kim
-modules, ``kim_m1_calcium.mod`` (KimCa), ``kim_m2_activation.mod`` (KimAct), ``kim_m3_force.mod`` (KimForce) and
-``kim_unit.mod`` (KimUnit, the three fused): NEURON advances mechanisms in the order nrnivmodl registers them,
-which is the byte order of the file names.  Module 1 must run before Module 2, Module 2 before Module 3 (KimAct <
-KimCa in name order), and the lower-case names place the muscle after everything that drives it or reads it
-(extensions, PortCombine, MuscleLength, afferents), in the same order for the fused unit as for the three.  Equations used by
-more than one mechanism live once, in ``.inc`` files the mod files INCLUDE.
+Each mod file is named after the mechanism it defines (``ExtFatigue.mod`` holds ExtFatigue), except the Kim modules,
+``kim_m1_calcium.mod`` (KimCa), ``kim_m2_activation.mod`` (KimAct), ``kim_m3_force.mod`` (KimForce) and
+``kim_unit.mod`` (KimUnit, the three fused): NEURON advances mechanisms in the order nrnivmodl registers them, which
+is the byte order of the file names. Module 1 must run before Module 2, Module 2 before Module 3 (KimAct < KimCa in
+name order), and the lower-case names place the muscle after everything that drives it or reads it (extensions,
+PortCombine, MuscleLength, afferents), in the same order for the fused unit as for the three. Equations used by more
+than one mechanism live once, in ``.inc`` files the mod files INCLUDE.
 """
 
 from __future__ import annotations

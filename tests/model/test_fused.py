@@ -75,8 +75,11 @@ def test_substeps_converge_to_the_every_step_update(ct09):
     assert errs[2] < 0.01                        # k = 8 (0.2 ms muscle step; measured 0.23 %): under 1 % of peak
 
 
-@pytest.mark.parametrize("names", [(n,) for n in registry()] + [("fatigue", "staircase", "post_activation_potentiation")],
-                         ids=lambda names: "+".join(names))
+#: every catalogue extension alone, and three gains on one port (KimCa's release_gain)
+EXTENSION_SETS = [(n,) for n in registry()] + [("fatigue", "staircase", "post_activation_potentiation")]
+
+
+@pytest.mark.parametrize("names", EXTENSION_SETS, ids=lambda names: "+".join(names))
 def test_extensions_drive_the_fused_ports_bit_for_bit(ct09, names):
     # random length with movement compensation, eq 18 off: every extension acts (its defaults are not neutral,
     # eq 18 is one of them) and every port is read; three gains on KimCa's release_gain meet in a chain of

@@ -1,6 +1,6 @@
 """Pools of fused muscle units (PoolDefinition(muscle_model="fused"), KimUnit): the same spikes and forces, bit for
-bit, as pools of the three Kim mechanisms, with extensions too; the muscle every k membrane steps stays within a stated error of the
-every-step pool; impossible combinations are refused.  (Two MPI ranks: tests/pool/test_mpi.py.)"""
+bit, as pools of the three Kim mechanisms, with extensions too; the muscle every k membrane steps stays within a
+stated error of the every-step pool; impossible combinations are refused. (Two MPI ranks: tests/pool/test_mpi.py.)"""
 
 import numpy as np
 import pytest
