@@ -133,12 +133,13 @@ class Component:
     def values(self, params: Mapping[str, float] | None) -> dict[str, float]:
         """Parameter values for this instance: explicit overrides, else the parameter set's value (by qualified
         name), else the declared default."""
+        given = by_qualified_name(params)
         out = {}
         for p, q in self.qualified_parameters():
             if p.name in self.overrides:
                 out[p.name] = self.overrides[p.name]
-            elif params is not None and q in params:
-                out[p.name] = float(params[q])
+            elif q in given:
+                out[p.name] = float(given[q])
             else:
                 out[p.name] = p.default
         return out
@@ -184,6 +185,16 @@ class Component:
     def destroy(self) -> None:
         """Drop the point process (NEURON frees it when no reference is left)."""
         self.obj = None
+
+
+def by_qualified_name(params: Mapping[str, float] | None) -> Mapping[str, float]:
+    """``params`` as a mapping looked up by qualified name (``kim_m2.C1``): a ParameterSet's own ``values`` dict
+    (its keys are the qualified names, so each lookup is one dict access: units are built by the thousand in a
+    fit), any other mapping as it is, None as empty."""
+    if params is None:
+        return {}
+    own = getattr(params, "values", None)
+    return own if isinstance(own, dict) else params
 
 
 @dataclass

@@ -14,10 +14,11 @@ mm, N.
 
 from __future__ import annotations
 
+import functools
 from typing import Any, Mapping
 
 from ..errors import InputError
-from .component import Component, Param, Port
+from .component import Component, Param, Port, by_qualified_name
 from .kim import KimActivation, KimCalcium, KimForce
 
 _MODULES = (KimCalcium, KimActivation, KimForce)
@@ -59,8 +60,8 @@ class KimUnit(Component):
 
     def values(self, params: Mapping[str, float] | None) -> dict[str, float]:
         """Every value from the parameter set (as the three Kim modules require) or an explicit override."""
-        missing = [self.qualified(p.name) for p in self.parameters
-                   if p.name not in self.overrides and (params is None or self.qualified(p.name) not in params)]
+        given = by_qualified_name(params)
+        missing = [q for p, q in self.qualified_parameters() if p.name not in self.overrides and q not in given]
         if missing:
             raise InputError(f"parameter set {getattr(params, 'name', None)!r} lacks {', '.join(missing)} "
                              "(needed by KimUnit)")
@@ -85,17 +86,12 @@ class KimUnit(Component):
                 "eq20_lengthening_divisor": self.lengthening_divisor, "substeps": self.substeps}
 
     def configure(self, params: Mapping[str, float] | None) -> None:
-        from neuron import h
-
         self.obj.xopt = self.obj.g1  # eq 18's optimum is Module 3's optimal length (KimCalcium.configure)
         self.obj.lencomp = 1.0 if self.length_compensation else 0.0
         self.obj.movdep = 1.0 if self.movement_depression else 0.0
         self.obj.lengdiv = 1.0 if self.lengthening_divisor else 0.0
         self.obj.substeps = float(self.substeps)
-        # the Simulator sets the atolscale of the registered components' states; these are the same states
-        cv = h.CVode()
-        for s in self.states:
-            cv.atolscale(f"{self.suffix}.{s.name}", s.atolscale)
+        _set_atolscale(self.suffix, tuple((s.name, s.atolscale) for s in self.states))
 
     def set_movement_onset(self, onset_ms: float | None) -> None:
         """Start eq 19's movement clock at onset_ms (ms); None: the muscle never moves."""
@@ -107,6 +103,17 @@ class KimUnit(Component):
         return int(self.obj.nasym)
 
     input_warnings = KimForce.input_warnings
+
+
+@functools.cache
+def _set_atolscale(suffix: str, states: tuple[tuple[str, float], ...]) -> None:
+    """CVODE's atolscale of each of the mechanism's states (by name: one setting for every instance), set once per
+    process; the three mechanisms' are set by the Simulator."""
+    from neuron import h
+
+    cv = h.CVode()
+    for name, scale in states:
+        cv.atolscale(f"{suffix}.{name}", scale)
 
 
 def kim_fused(length_compensation: bool = True, movement_compensation: bool = False, substeps: int = 1,

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model.combine import PortCombine
-from ..model.component import Component
+from ..model.component import Component, by_qualified_name
 from ..model.extensions import Extension, make_extensions
 from ..model.hatze import hatze_contraction, hatze_excitation
 from ..model.kim import kim_contraction, kim_excitation
@@ -134,8 +134,8 @@ class MuscleUnit:
     def _check_complete(self, comp: Component) -> None:
         # the Kim modules take every value from the parameter set (no silent default); others have tables
         if comp.module:
-            missing = [q for p, q in comp.qualified_parameters()
-                       if p.name not in comp.overrides and q not in self.params]
+            given = by_qualified_name(self.params)
+            missing = [q for p, q in comp.qualified_parameters() if p.name not in comp.overrides and q not in given]
             if missing:
                 raise InputError(f"parameter set {self.params.name!r} lacks {', '.join(missing)} "
                                  f"(needed by {type(comp).__name__})")
