@@ -1,8 +1,8 @@
 """The fused Kim unit (mod/kim_unit.mod, KimUnit) against the three-mechanism unit (KimCa, KimAct, KimForce):
 bit-identical under the fixed step and, for one unit, under CVODE (the same right-hand side), for a twitch,
 trains, and random length with and without movement compensation, and with every catalogue extension driving its
-modulation ports (two on one port through PortCombine too); the muscle-every-k-steps option converges to it; a
-contraction beside it is refused."""
+modulation ports (three on one port through PortCombine too; under CVODE as well); the muscle-every-k-steps option
+converges to it; a contraction beside it is refused."""
 
 import numpy as np
 import pytest
@@ -93,6 +93,20 @@ def test_extensions_drive_the_fused_ports_bit_for_bit(ct09, names):
                      record=FUSED)
     plain = simulate(ct09, spikes, trace, 1500.0, excitation=kim_fused(False, True), record=["muscle.F"])
     assert np.max(np.abs(fused["muscle.F"] - plain["muscle.F"])) > 1e-3   # the extension changed the force
+    _assert_identical(three, fused)
+
+
+def test_extensions_on_the_fused_ports_under_cvode_are_bit_for_bit(ct09):
+    # one unit under CVODE: the ports are read in the same right-hand side evaluations as the three mechanisms'
+    extensions = {"fatigue": {"k": 0.05}, "staircase": {}, "force_enhancement_after_stretch": {}}
+    trace = random_length(800.0, seed=5)
+    spikes = list(30.0 + 30.0 * np.arange(25))
+    sim = dict(method="cvode", atol=1e-3, rtol=1e-6)
+    three = simulate(ct09, spikes, trace, 800.0, excitation=kim_excitation(True, True), extensions=extensions,
+                     record=THREE, **sim)
+    fused = simulate(ct09, spikes, trace, 800.0, excitation=kim_fused(True, True), extensions=extensions,
+                     record=FUSED, **sim)
+    assert three["force.F"].max() > 1.0
     _assert_identical(three, fused)
 
 
