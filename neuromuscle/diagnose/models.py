@@ -143,11 +143,11 @@ def simulate_all(params: ParameterSet, trials: Sequence[Trial], extensions: tupl
 
 def _one_fit(calibration: Sequence[Trial], start: ParameterSet, free: Mapping[str, tuple[float, float] | None],
              options: SimulationOptions, noise: Mapping[str, Noise], pool: TrialPool | None,
-             max_iterations: int, tolerance: float, intervals: str) -> FitResult:
+             max_iterations: int, tolerance: float, intervals: str, final_jacobian: bool = True) -> FitResult:
     cal = list(calibration)
     problem = FitProblem(cal, start, dict(free), objective="sse", weights=chi2_weights(cal, noise), options=options)
     return fit(problem, pool=pool, progress=False, max_iterations=max_iterations, fd="forward", tolerance=tolerance,
-               intervals=intervals)
+               intervals=intervals, final_jacobian=final_jacobian)
 
 
 def fit_model(extensions: Sequence[str], baseline_free: Sequence[str], starts: Mapping[str, ParameterSet],
@@ -180,7 +180,10 @@ def fit_model(extensions: Sequence[str], baseline_free: Sequence[str], starts: M
         res = _one_fit(calibration, start, free, opts, noise, pool, max_iterations, tolerance, intervals)
         costs = {how: res.cost}
     else:
-        race = {how: _one_fit(calibration, p, free, opts, noise, pool, RACE_ITERATIONS, tolerance, "hac")
+        # a start stopped by the race is continued by a fit of its own (or dropped): no Jacobian at its last point
+        continued = max_iterations > RACE_ITERATIONS
+        race = {how: _one_fit(calibration, p, free, opts, noise, pool, RACE_ITERATIONS, tolerance, "hac",
+                              final_jacobian=not continued)
                 for how, p in unique.items()}
         costs = {how: r.cost for how, r in race.items()}
         how = min(costs, key=costs.get)

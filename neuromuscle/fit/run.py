@@ -37,7 +37,8 @@ class FitResult:
     (``n_simulations`` counts the trial runs the fit needed, also one a pool-backed fit took from a candidate it
     had just run);
     ``z`` and ``jacobian``: the search vector of the estimate and dr/dz there, from runs at ``fit``'s
-    ``jacobian_dt_ms`` when given (other interval methods: :func:`.intervals.fit_uncertainty`)."""
+    ``jacobian_dt_ms`` when given (other interval methods: :func:`.intervals.fit_uncertainty`); ``jacobian`` is None
+    when ``fit(..., final_jacobian=False)`` stopped at its iteration limit."""
 
     parameters: ParameterSet
     uncertainty: Uncertainty
@@ -166,7 +167,7 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
         fd: str = "central", fd_step: float = 1e-3, max_iterations: int = 100, tolerance: float = 1e-8,
         ident_rcond: float = 1e-3, max_rel_se: float = 0.5, mp_context: str = "spawn",
         intervals: str = INTERVAL_METHODS[0], pool: TrialPool | None = None,
-        jacobian_dt_ms: float | None = None) -> FitResult:
+        jacobian_dt_ms: float | None = None, final_jacobian: bool = True) -> FitResult:
     """Fit ``problem``'s free parameters (search space: :mod:`.transforms`; statistics: :mod:`.uncertainty`).
 
     method: "least_squares" (scipy trust-region reflective with a finite-difference Jacobian in z) or
@@ -184,6 +185,10 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     (None: the problem's own step).  The step's error cancels in the differences, so a coarser step makes the
     Jacobian cheaper at little cost in accuracy; every residual the optimiser minimises, the best point, the
     cost and the forces returned stay at the problem's step.  The intervals use the last Jacobian.
+    final_jacobian: False for a fit that another continues from its estimate when it stops at ``max_iterations``
+    (e.g. starts raced for a few iterations): a fit stopped there ends at a point whose Jacobian was not yet made,
+    and none is made for its intervals (a Jacobian costs one run of every trial per free parameter); its
+    ``uncertainty`` is then :meth:`.uncertainty.Uncertainty.not_estimated` and ``jacobian`` None.
     """
     if not (isinstance(max_iterations, int) and max_iterations >= 1):
         raise InputError(f"max_iterations must be an integer >= 1, got {max_iterations!r}")
@@ -233,13 +238,22 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
         else:
             z, message = praxis(z0, lo, hi, run_all, tracker, max_iterations, tolerance)
             jr = None
-        jac = jr[0] if jr is not None else fd_jacobian(z, lo, hi, jacobian_run_all or run_all, fd, fd_step, None)[0]
+        stopped = "max_iterations" in message
+        jac: np.ndarray | None = None
+        if jr is not None:
+            jac = jr[0]
+        elif final_jacobian or not stopped:
+            jac = fd_jacobian(z, lo, hi, jacobian_run_all or run_all, fd, fd_step, None)[0]
         sims = simulate(z, None)
         tracker.n_sim += len(problem.trials)
         r = problem.residuals_from(sims)
         tracker.best_z, tracker.best_cost = z, float(r @ r)
-        unc = fit_uncertainty(problem, z, jac, sims, intervals, Rules.for_fit(ident_rcond, max_rel_se), simulate)
-    if "integrator" in intervals:  # the re-run at half the step
+        if jac is None:
+            unc = Uncertainty.not_estimated(problem.to_values(z), "not estimated: the fit stopped at max_iterations "
+                                            "and is to be continued from this point")
+        else:
+            unc = fit_uncertainty(problem, z, jac, sims, intervals, Rules.for_fit(ident_rcond, max_rel_se), simulate)
+    if "integrator" in intervals and jac is not None:  # the re-run at half the step
         tracker.n_sim += len(problem.trials)
     tracker.write(final=True)
     return FitResult(

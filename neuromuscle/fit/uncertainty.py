@@ -84,6 +84,11 @@ class Rules:
         return cls("pinv", "search", max_ci_factor=max_ci_factor, max_vif=max_vif)
 
 
+
+#: ``Uncertainty.method`` of estimates whose uncertainty was not made (:meth:`Uncertainty.not_estimated`).
+NOT_ESTIMATED = "none"
+
+
 @dataclass(frozen=True)
 class Uncertainty:
     """Uncertainty of the estimates of the fitted parameters ``names`` (parameter units unless stated).
@@ -113,6 +118,16 @@ class Uncertainty:
     def identifiable(self) -> dict[str, bool]:
         """False for the flagged parameters."""
         return {n: n not in self.flags for n in self.names}
+
+    @classmethod
+    def not_estimated(cls, estimates: dict[str, float], why: str) -> Uncertainty:
+        """The estimates with no uncertainty made: infinite SE, unbounded intervals, every parameter flagged with
+        ``why`` (so nothing reads them as identified)."""
+        names = tuple(estimates)
+        k = len(names)
+        return cls(names, dict(estimates), {n: math.inf for n in names}, {n: (-math.inf, math.inf) for n in names},
+                   np.full((k, k), np.nan), np.full(k, np.nan), {n: math.inf for n in names},
+                   {n: why for n in names}, 0, math.nan, NOT_ESTIMATED)
 
 
 def _inverse_svd(svals: np.ndarray, vt: np.ndarray) -> np.ndarray:
@@ -199,6 +214,8 @@ def estimate_uncertainty(names: Sequence[str], z: np.ndarray, jac_z: np.ndarray,
 
 def describe_method(method: str) -> str:
     """One sentence saying how intervals of ``method`` (``Uncertainty.method``) were made."""
+    if method == NOT_ESTIMATED:
+        return "no intervals: the fit stopped at its iteration limit and none were made at its last point"
     covariance, _, extra = method.partition("+")
     text = {"iid": "Wald 95 % intervals from s^2 (J^T J)^-1 (independent residuals of one variance)",
             "hac": "Wald 95 % intervals from a HAC sandwich covariance (AR(1)-prewhitened Newey-West per trial: "

@@ -1,6 +1,7 @@
 """Checkpoint and resume (neuromuscle.fit.checkpoint)."""
 
 import json
+import math
 
 import pytest
 from fit_synthetic import OPTS, far_start
@@ -26,3 +27,21 @@ def test_checkpoint_written_and_resume_continues(ct09, twitch_trials, tmp_path, 
     assert json.loads(path.read_text())["finished"] is True
     with pytest.raises(InputError, match="fits"):
         fit(FitProblem(twitch_trials, ct09, ["C3"], options=OPTS), checkpoint=path, resume=True)
+
+
+def test_fit_stopped_for_a_continuation_makes_no_jacobian_at_its_end(ct09, twitch_trials):
+    """final_jacobian=False: a fit stopped at max_iterations skips the Jacobian its intervals alone would need
+    (one run of every trial per free parameter) and says its uncertainty was not made; the estimate is the same."""
+    problem = FitProblem(twitch_trials, ct09, ["C3", "C1"], start=far_start(ct09), options=OPTS)
+    kw = {"progress": False, "fd": "forward", "intervals": "hac"}
+    full = fit(problem, max_iterations=1, **kw)
+    lean = fit(problem, max_iterations=1, final_jacobian=False, **kw)
+    assert "max_iterations" in lean.message
+    assert lean.estimates == full.estimates and lean.cost == full.cost
+    assert full.n_simulations - lean.n_simulations == 3 * len(twitch_trials)  # the point and one step per parameter
+    assert lean.jacobian is None and full.jacobian is not None
+    assert lean.interval_method == "none" and not any(lean.identifiable.values())
+    assert all(lo == -math.inf and hi == math.inf for lo, hi in lean.ci95.values())
+    converged = fit(problem, final_jacobian=False, **kw)  # not stopped: intervals as always
+    assert "max_iterations" not in converged.message and converged.jacobian is not None
+    assert converged.interval_method == full.interval_method
