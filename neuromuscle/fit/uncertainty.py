@@ -84,7 +84,6 @@ class Rules:
         return cls("pinv", "search", max_ci_factor=max_ci_factor, max_vif=max_vif)
 
 
-
 #: ``Uncertainty.method`` of estimates whose uncertainty was not made (:meth:`Uncertainty.not_estimated`).
 NOT_ESTIMATED = "none"
 
