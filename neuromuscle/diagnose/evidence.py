@@ -82,6 +82,7 @@ class Evidence:
     baseline_excess: float | None = None
     after_others: bool = False
     alone_gain: float | None = None
+    crossed: tuple[str, ...] = ()
     per_trial: dict[str, dict[str, float]] = field(default_factory=dict)
     failed: dict[str, str] = field(default_factory=dict)
 
@@ -117,7 +118,9 @@ class Evidence:
 
     def text(self) -> str:
         """One line: the held-out error, gains against penalties, bootstrap, excess removed, failures."""
-        parts = [f"held-out mean NRMSE {self.nrmse_before:.2f} -> {self.nrmse_after:.2f} %",
+        parts = [f"its telling trials {', '.join(self.crossed)} held out too (cross-validation over trials)"] \
+            if self.crossed else []
+        parts += [f"held-out mean NRMSE {self.nrmse_before:.2f} -> {self.nrmse_after:.2f} %",
                  f"held-out chi2 gain {self.chi2_gain:.1f} vs BIC penalty {self.bic_penalty:.1f}",
                  f"bootstrap 5th percentile {self.bootstrap_p05:.4g}",
                  f"removes {100 * self.excess_removed:.0f} % of the held-out error above noise",
@@ -144,6 +147,7 @@ class Evidence:
                 "rest_trend_trials": self.rest_left, "trials_with_rest": self.n_rest, "score": self.score,
                 "baseline_excess": self.baseline_excess, "share_of_baseline_excess": self.share_of_baseline_excess,
                 "gain_alone_at_baseline": self.alone_gain, "own_share": self.own_share,
+                "cross_validated_trials": list(self.crossed),
                 "per_trial": self.per_trial, "passed": self.passed, "failed": self.failed}
 
 

@@ -148,9 +148,10 @@ RULES: tuple[Rule, ...] = (
          f"trials with a rest window trend at rest (|z| > {REST_Z:g}); no cause of the catalogue acts where the "
          "muscle is quiet", _nothing_at_rest),
     Rule("R7", "where it acts",
-         "on the held-out samples where the cause is defined (its telling trials; for force enhancement and "
-         "depression, the holds after the movement measured from the isometric force at that length) or, when no "
-         "held-out trial is of that kind, where its fitted extension changes the force by more than half a noise "
+         "on the held-out samples where the cause is defined (its telling trials, held out by cross-validation "
+         "when they all calibrate; for force enhancement and depression, the holds after the movement measured "
+         "from the isometric force at that length) or, when no held-out trial is of that kind (a pair fitted "
+         "together), where its fitted extension changes the force by more than half a noise "
          "sd, the chi-square gain exceeds the BIC penalty there and its bootstrap 5th percentile is above 0.  When "
          f"the model before fits every held-out telling trial to {STRUCTURE_RATIO:g} noise sd (they may not show "
          "the cause), a candidate that does not gain there may instead gain where its extension acts, if it also "

@@ -20,10 +20,14 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    that passes every other rule after causes were named is also set beside its own fit at the baseline
    (:func:`alone_at_baseline`), and must keep most of the held-out gain it has there (rule R8).  Where the
    cause is judged (R7): its telling held-out trials, or the held-out samples where its fitted extension changes
-   the force by more than ``ACTS_SD`` noise sd when no held-out trial is of its kind (a file with a single
-   stretch-hold or a single post-tetanic series) or, as a second way through rule R7, when the model before
-   already fits every held-out telling trial to its noise there (a model that bent its other parameters to absorb
-   the cause on those trials, which may then not show it).  There, a cause defined
+   the force by more than ``ACTS_SD`` noise sd when no held-out trial is of its kind (in a pair of step 6) or, as
+   a second way through rule R7, when the model before already fits every held-out telling trial to its noise
+   there (a model that bent its other parameters to absorb the cause on those trials, which may then not show
+   it).  A candidate whose telling trials all calibrate (protocols the file has once: one long train, one doublet
+   train, one post-tetanic series, one shortening-hold) is judged by **cross-validation over trials**
+   (:func:`judge_crossed`): the model before and the candidate's model are fitted again without those trials,
+   the candidate from its usual starts (nothing it learnt from them carries over), and both are judged by every
+   rule on the held-out trials and those trials together.  There, a cause defined
    after a movement is measured from the isometric force at the hold's length, and one that acts through the
    movement from the isometric misfit at every sample's length (:func:`.causes.isometric_level`);
 5. the passing candidate with the best whole-file score is named; its model, refitted in every free parameter
@@ -45,7 +49,7 @@ from __future__ import annotations
 import math
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Mapping, Sequence
 
 import numpy as np
@@ -179,6 +183,8 @@ class Context:
     progress: bool = False
     baseline: FittedModel | None = None
     alone: dict[str, FittedModel] = field(default_factory=dict)
+    crossed: dict[tuple[str, ...], Context] = field(default_factory=dict)
+    refits: dict[str, FittedModel] = field(default_factory=dict)
 
     @property
     def trials(self) -> list[Trial]:
@@ -433,8 +439,55 @@ def fit_alone(ctx: Context, c: Candidate, before: FittedModel) -> None:
     c.model = fit_candidate(ctx, c.name, before, c.screen)
     if before is ctx.baseline:
         ctx.alone[c.name] = c.model
-    c.evidence = judge(ctx, c.name, before, c.model, c.telling_heldout)
+    if c.telling_heldout or not c.telling_calibration:
+        c.evidence = judge(ctx, c.name, before, c.model, c.telling_heldout)
+    else:
+        c.evidence = judge_crossed(ctx, c, before)
     ctx.say(f"    {c.name} (from the {c.model.start}): {c.evidence.text()}")
+
+
+def crossed(ctx: Context, trials: Sequence[str]) -> Context:
+    """The split with the calibration trials ``trials`` moved to the held-out side (module docstring, step 4):
+    where a candidate whose telling trials all calibrate is judged.  One per set of trials, kept for the whole
+    selection (its refitted models with it); it judges with the step's noise."""
+    key = tuple(trials)
+    sub = ctx.crossed.get(key)
+    if sub is None:
+        sub = replace(ctx, calibration=tuple(i for i in ctx.calibration if i not in key),
+                      heldout=tuple(ctx.heldout) + key, baseline=None, alone={}, crossed={}, refits={})
+        ctx.crossed[key] = sub
+    sub.noise = ctx.noise
+    return sub
+
+
+def refit_on(sub: Context, model: FittedModel) -> FittedModel:
+    """``model`` (the baseline, or the baseline with named causes) fitted again on ``sub``'s calibration trials,
+    in every parameter it was fitted in, from its own values; kept by model name."""
+    if model.name not in sub.refits:
+        sub.say(f"  fitting {model.name} again on {len(sub.calibration)} calibration trials")
+        sub.refits[model.name] = fit_model(model.extensions, sub.baseline_free, {model.name: model.parameters},
+                                           sub.calibration_trials, sub.trials, sub.noise, pool=sub.pool,
+                                           max_iterations=MODEL_MAX_ITERATIONS, intervals="hac")
+    return sub.refits[model.name]
+
+
+def judge_crossed(ctx: Context, c: Candidate, before: FittedModel) -> Evidence:
+    """Candidate ``c``, whose telling trials all calibrate, judged by cross-validation over trials (module
+    docstring, step 4): the model before and the candidate's model fitted again without those trials (the
+    candidate from its usual starts, so nothing it learnt from them carries over), judged on the held-out trials
+    and on them."""
+    sub = crossed(ctx, c.telling_calibration)
+    ctx.say(f"    {c.name}: every telling trial calibrates; judged with {', '.join(c.telling_calibration)} held "
+            "out as well")
+    if sub.baseline is None:
+        sub.baseline = refit_on(sub, ctx.baseline) if ctx.baseline is not None else None
+    before_cv = sub.baseline if before is ctx.baseline and sub.baseline is not None else refit_on(sub, before)
+    model = fit_candidate(sub, c.name, before_cv, c.screen)
+    if before is ctx.baseline:
+        sub.alone[c.name] = model
+    ev = judge(sub, c.name, before_cv, model, c.telling_calibration)
+    ev.crossed = tuple(c.telling_calibration)
+    return ev
 
 
 def pair_for(s: Step) -> tuple[Candidate, Candidate] | None:

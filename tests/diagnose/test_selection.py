@@ -157,3 +157,41 @@ def test_a_candidate_whose_fit_ends_above_the_model_it_contains_is_fitted_again_
         assert got.cost == 100.0
     else:
         assert got.cost == first_cost
+
+
+def test_a_candidate_whose_telling_trials_all_calibrate_is_judged_with_them_held_out(monkeypatch):
+    """Cross-validation over trials: the model before is fitted again without the candidate's telling trials (once
+    for every candidate with the same ones), the candidate is fitted from that refit, and both are judged with those
+    trials on the held-out side; a candidate with a held-out telling trial is judged on the file's own split."""
+    fits, judged = [], []
+
+    def fake_fit(extensions, baseline_free, starts, calibration, *args, **kwargs):
+        fits.append((tuple(extensions), tuple(calibration)))
+        return SimpleNamespace(name=" + ".join(("baseline",) + tuple(extensions)), start="model before",
+                               extensions=tuple(extensions), cost=1.0, simulated={})
+
+    def fake_judge(ctx, name, before, model, held):
+        judged.append((name, tuple(ctx.calibration), tuple(ctx.heldout), before.name, tuple(held)))
+        return evidence()
+
+    monkeypatch.setattr(selection, "fit_model", fake_fit)
+    monkeypatch.setattr(selection, "calibration_chi2", lambda ctx, simulated: 2.0)
+    monkeypatch.setattr(selection, "judge", fake_judge)
+    monkeypatch.setattr(selection, "_starts", lambda ctx, name, before, screened: {})
+    baseline = SimpleNamespace(name="baseline", extensions=(), simulated={}, parameters=None)
+    data = SimpleNamespace(trials={i: i for i in ("twitch", "train", "long_train", "held_train")})
+    ctx = selection.Context(data, {}, ("twitch", "train", "long_train"), ("held_train",), {}, None, ("P0",))
+    ctx.baseline = baseline
+    fatigue = Candidate("fatigue", ["long_train"], [])
+    fit_alone(ctx, fatigue, baseline)
+    assert fits == [(("fatigue",), ("twitch", "train", "long_train")),  # the candidate on the file's split
+                    ((), ("twitch", "train")),                            # the baseline without its telling trial
+                    (("fatigue",), ("twitch", "train"))]                  # the candidate from that refit
+    assert judged == [("fatigue", ("twitch", "train"), ("held_train", "long_train"), "baseline", ("long_train",))]
+    assert fatigue.evidence.crossed == ("long_train",) and fatigue.model.name == "baseline + fatigue"
+    fit_alone(ctx, Candidate("relaxation_rate", ["long_train"], []), baseline)
+    assert len(fits) == 5  # the refitted baseline is kept
+    staircase = Candidate("staircase", ["train"], ["held_train"])
+    fit_alone(ctx, staircase, baseline)
+    assert len(fits) == 6 and judged[-1][1:3] == (("twitch", "train", "long_train"), ("held_train",))
+    assert staircase.evidence.crossed == ()
