@@ -23,8 +23,9 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    the force by more than ``ACTS_SD`` noise sd when no held-out trial is of its kind (in a pair of step 6) or, as
    a second way through rule R7, when the model before already fits every held-out telling trial to its noise
    there (a model that bent its other parameters to absorb the cause on those trials, which may then not show
-   it).  A candidate whose telling trials all calibrate (protocols the file has once: one long train, one doublet
-   train, one post-tetanic series, one shortening-hold) is judged by **cross-validation over trials**
+   it).  A candidate whose telling trials all calibrate (protocols the file has once, such as one long train, one
+   doublet train, one post-tetanic series, one shortening-hold; or the off-optimum trials of protocols at three
+   lengths, which the alternate split puts on the calibration side) is judged by **cross-validation over trials**
    (:func:`judge_crossed`): the model before and the candidate's model are fitted again without those trials,
    the candidate from its usual starts (nothing it learnt from them carries over), and both are judged by every
    rule on the held-out trials and those trials together.  There, a cause defined
