@@ -480,9 +480,9 @@ def judge_crossed(ctx: Context, c: Candidate, before: FittedModel) -> Evidence:
     sub = crossed(ctx, c.telling_calibration)
     ctx.say(f"    {c.name}: every telling trial calibrates; judged with {', '.join(c.telling_calibration)} held "
             "out as well")
-    if sub.baseline is None:
-        sub.baseline = refit_on(sub, ctx.baseline) if ctx.baseline is not None else None
-    before_cv = sub.baseline if before is ctx.baseline and sub.baseline is not None else refit_on(sub, before)
+    if sub.baseline is None and ctx.baseline is not None:
+        sub.baseline = refit_on(sub, ctx.baseline)  # rule R8's reference and the baseline's excess, in this split
+    before_cv = refit_on(sub, before)  # kept by name: the baseline's refit itself at the first step
     model = fit_candidate(sub, c.name, before_cv, c.screen)
     if before is ctx.baseline:
         sub.alone[c.name] = model
