@@ -16,7 +16,9 @@ calibration trials and simulates every trial with the result:
   convergence.  A candidate starts from the model before it and from the same model with the baseline parameters
   it interacts with (``Extension.interacts``) put back at the base set's values: a baseline that bent Module 3 to
   absorb a length effect does not trap the length extension's fit in the bend;
-* **convergence** is stated, never assumed: a fit that stops at ``max_iterations`` says so (``converged``).
+* **convergence** is stated, never assumed: a fit converges when scipy's relative tolerance is met or when its
+  last three iterations lowered the chi-square by less than ``COST_TOLERANCE`` each on average; one that stops at
+  ``max_iterations`` says so (``converged``).
 
 Simulation: fixed step ``DT_MS`` (ms, the largest the fixed-step scheme allows: it resolves the 3 ms release
 kernel), recorded every ``RECORD_DT_MS``, no settling (every mechanism starts at its resting steady state at the
@@ -56,6 +58,10 @@ MAX_ITERATIONS = 15
 MODEL_MAX_ITERATIONS = 24
 #: Iterations every start of a fit gets before the best one continues alone.
 RACE_ITERATIONS = 2
+#: Every fit here is also converged where its last three iterations lowered the calibration chi-square by less than
+#: this each on average: a change of one in chi-square moves a parameter by about one standard error, and the rules
+#: judge gains against BIC penalties of several units a parameter.
+COST_TOLERANCE = 1.0
 
 
 @dataclass
@@ -147,7 +153,7 @@ def _one_fit(calibration: Sequence[Trial], start: ParameterSet, free: Mapping[st
     cal = list(calibration)
     problem = FitProblem(cal, start, dict(free), objective="sse", weights=chi2_weights(cal, noise), options=options)
     return fit(problem, pool=pool, progress=False, max_iterations=max_iterations, fd="forward", tolerance=tolerance,
-               intervals=intervals, final_jacobian=final_jacobian)
+               intervals=intervals, final_jacobian=final_jacobian, cost_tolerance=COST_TOLERANCE)
 
 
 def fit_model(extensions: Sequence[str], baseline_free: Sequence[str], starts: Mapping[str, ParameterSet],

@@ -75,20 +75,39 @@ class _IterationLimit(Exception):
     """Raised inside the optimiser's Jacobian callback when the iteration budget of this run is spent."""
 
 
+class _CostSettled(Exception):
+    """Raised inside the optimiser's Jacobian callback when the last iterations lowered the cost by less than the
+    absolute cost tolerance."""
+
+    def __init__(self, z: np.ndarray) -> None:
+        super().__init__()
+        self.z = z
+
+
+#: Iterations over which an absolute cost tolerance is measured.
+COST_WINDOW = 3
+
+
 def trust_region_least_squares(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, run_all: RunAll,
                                monitor: Monitor, fd: str, h: float, max_iterations: int,
-                               tol: float, jacobian_run_all: RunAll | None = None
+                               tol: float, jacobian_run_all: RunAll | None = None,
+                               cost_tol: float | None = None
                                ) -> tuple[np.ndarray, str, tuple[np.ndarray, np.ndarray] | None]:
     """scipy's trust-region reflective least squares in z within [lo, hi], Jacobian by :func:`fd_jacobian`;
     tol is scipy's ftol/xtol/gtol; returns z, a message and (J, r) at z if known.  One iteration = one
-    Jacobian; after ``max_iterations`` the monitor's best point is returned.  jacobian_run_all: evaluates the
-    Jacobian's candidates and its own base point (e.g. simulations at a coarser step, whose error cancels in the
-    differences); the residuals minimised, the monitor's best point and r at z stay ``run_all``'s."""
+    Jacobian; after ``max_iterations`` the monitor's best point is returned.  cost_tol: also stop, converged, at
+    an iterate where the last ``COST_WINDOW`` iterations lowered the cost |r|^2 by less than this each on average
+    (absolute: a chi-square for residuals weighted by 1/sd); scipy's relative ftol alone lets a fit crawl along a
+    flat valley for many iterations, each lowering the cost by a part in 10^4 that no decision can see.
+    jacobian_run_all: evaluates the Jacobian's candidates and its own base point (e.g. simulations at a coarser
+    step, whose error cancels in the differences); the residuals minimised, the monitor's best point and r at z
+    stay ``run_all``'s."""
     from scipy.optimize import least_squares
 
     cache: dict[bytes, np.ndarray] = {}
     last: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
     done = [0]
+    costs: list[float] = []
 
     def fun(z: np.ndarray) -> np.ndarray:
         key = np.asarray(z, dtype=float).tobytes()
@@ -110,7 +129,12 @@ def trust_region_least_squares(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, r
         last.clear()
         last[z.tobytes()] = (j, r0)
         done[0] += 1
-        monitor.iteration(z, float(r0 @ r0))
+        cost = float(r0 @ r0)
+        monitor.iteration(z, cost)
+        costs.append(cost)
+        settled = len(costs) > COST_WINDOW and costs[-1 - COST_WINDOW] - cost < COST_WINDOW * (cost_tol or 0.0)
+        if cost_tol is not None and settled:
+            raise _CostSettled(z)
         return j
 
     # trf keeps iterates strictly inside the bounds: a start on a bound is nudged inside
@@ -122,6 +146,10 @@ def trust_region_least_squares(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, r
     except _IterationLimit:
         z = monitor.best_z if monitor.best_z is not None else z_in
         message = f"stopped after max_iterations = {max_iterations} iterations (resume to continue)"
+    except _CostSettled as settled:
+        z = settled.z
+        message = (f"the cost settled: the last {COST_WINDOW} iterations lowered it by "
+                   f"{costs[-1 - COST_WINDOW] - costs[-1]:.3g} in all, less than {cost_tol:g} each on average")
     return z, message, last.get(z.tobytes())
 
 

@@ -167,7 +167,8 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
         fd: str = "central", fd_step: float = 1e-3, max_iterations: int = 100, tolerance: float = 1e-8,
         ident_rcond: float = 1e-3, max_rel_se: float = 0.5, mp_context: str = "spawn",
         intervals: str = INTERVAL_METHODS[0], pool: TrialPool | None = None,
-        jacobian_dt_ms: float | None = None, final_jacobian: bool = True) -> FitResult:
+        jacobian_dt_ms: float | None = None, final_jacobian: bool = True,
+        cost_tolerance: float | None = None) -> FitResult:
     """Fit ``problem``'s free parameters (search space: :mod:`.transforms`; statistics: :mod:`.uncertainty`).
 
     method: "least_squares" (scipy trust-region reflective with a finite-difference Jacobian in z) or
@@ -176,7 +177,9 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     instead splits every evaluation by candidate and trial over a process pool (:class:`.evaluate.TrialPool`),
     and ``pool`` (a TrialPool holding the problem's trials) does the same on a pool the caller keeps.
     checkpoint: JSON path written after every iteration; resume=True starts from it.
-    tolerance: scipy's ftol/xtol/gtol (least_squares) or praxis' tolerance in z.  max_iterations: iterations
+    tolerance: scipy's ftol/xtol/gtol (least_squares) or praxis' tolerance in z.  cost_tolerance (least_squares):
+    also converged where the last three iterations lowered the cost by less than this each on average, in the
+    cost's own units (a chi-square when the residuals are weighted by 1/sd).  max_iterations: iterations
     (Jacobians; praxis: rounds of 2k+2 evaluations) of this call; the best point so far is returned after it.
     fd, fd_step: finite differences (:func:`.optimizers.fd_jacobian`).  ident_rcond, max_rel_se: the
     identifiability flags (``Rules.for_fit``).  intervals: how the 95 % intervals are made, one of
@@ -192,6 +195,8 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     """
     if not (isinstance(max_iterations, int) and max_iterations >= 1):
         raise InputError(f"max_iterations must be an integer >= 1, got {max_iterations!r}")
+    if cost_tolerance is not None and not (isinstance(cost_tolerance, (int, float)) and cost_tolerance > 0):
+        raise InputError(f"cost_tolerance must be a number > 0 or None, got {cost_tolerance!r}")
     if method not in METHODS:
         raise InputError(f"method must be one of {METHODS}, got {method!r}")
     if intervals not in INTERVAL_METHODS:
@@ -234,7 +239,8 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
 
         if method == "least_squares":
             z, message, jr = trust_region_least_squares(z0, lo, hi, run_all, tracker, fd, fd_step,
-                                                        max_iterations, tolerance, jacobian_run_all)
+                                                        max_iterations, tolerance, jacobian_run_all,
+                                                        cost_tolerance)
         else:
             z, message = praxis(z0, lo, hi, run_all, tracker, max_iterations, tolerance)
             jr = None

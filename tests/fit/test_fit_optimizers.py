@@ -6,7 +6,7 @@ from fit_synthetic import NOISE_N, OPTS, far_start, synthetic_trial
 
 from neuromuscle.errors import InputError
 from neuromuscle.fit import FitProblem, fit
-from neuromuscle.fit.optimizers import fd_jacobian
+from neuromuscle.fit.optimizers import COST_WINDOW, fd_jacobian, trust_region_least_squares
 
 
 def test_recovers_C3_C1_from_far_start_inside_ci(ct09, twitch_trials):
@@ -74,3 +74,50 @@ def test_jacobian_step_out_of_range_is_refused(ct09, twitch_trials, bad):
     problem = FitProblem(twitch_trials[:1], ct09, ["C3"], options=OPTS)
     with pytest.raises(InputError, match="jacobian_dt_ms"):
         fit(problem, progress=False, jacobian_dt_ms=bad)
+
+
+class _Costs:
+    """A Monitor that keeps the cost at every iteration."""
+
+    def __init__(self) -> None:
+        self.best_z, self.best_cost, self.costs = None, float("inf"), []
+
+    def iteration(self, z, cost):
+        self.costs.append(cost)
+        if cost < self.best_cost:
+            self.best_z, self.best_cost = z, cost
+
+
+def _rosenbrock(zs):
+    return [np.array([10.0 * (z[1] - z[0] ** 2), 1.0 - z[0]]) for z in zs]
+
+
+def test_a_cost_tolerance_stops_a_fit_whose_last_iterations_gain_less_than_it_each():
+    """cost_tol is absolute and per iteration, averaged over COST_WINDOW iterations: the fit stops, converged, at
+    the first iterate where the last COST_WINDOW iterations lowered the cost by less than COST_WINDOW * cost_tol,
+    and returns that iterate with its Jacobian; without it the same fit runs on to scipy's own tolerance."""
+    lo, hi, z0 = np.full(2, -5.0), np.full(2, 5.0), np.array([-1.2, 1.0])
+    free = _Costs()
+    z_free, message, _ = trust_region_least_squares(z0, lo, hi, _rosenbrock, free, "central", 1e-6, 200, 1e-12)
+    assert "max_iterations" not in message and "settled" not in message
+    assert np.allclose(z_free, [1.0, 1.0], atol=1e-6)
+    gains = -np.diff(free.costs)
+    window = [free.costs[k - COST_WINDOW] - free.costs[k] for k in range(COST_WINDOW, len(free.costs))]
+    tol = float(np.median(window)) / COST_WINDOW  # settles part of the way along the valley
+    stop = next(k for k in range(COST_WINDOW, len(free.costs)) if free.costs[k - COST_WINDOW] - free.costs[k]
+                < COST_WINDOW * tol)
+    settled = _Costs()
+    z, message, jr = trust_region_least_squares(z0, lo, hi, _rosenbrock, settled, "central", 1e-6, 200, 1e-12,
+                                                cost_tol=tol)
+    assert "the cost settled" in message and len(settled.costs) == stop + 1 < len(free.costs)
+    assert settled.costs == free.costs[:stop + 1] and np.all(gains[:stop] >= 0)
+    j, r = jr
+    assert np.array_equal(r, _rosenbrock([z])[0]) and j.shape == (2, 2)
+    assert float(r @ r) == settled.costs[-1]
+
+
+@pytest.mark.parametrize("bad", [0.0, -1.0, "1"])
+def test_a_cost_tolerance_that_is_not_a_positive_number_is_refused(ct09, twitch_trials, bad):
+    problem = FitProblem(twitch_trials[:1], ct09, ["C3"], options=OPTS)
+    with pytest.raises(InputError, match="cost_tolerance"):
+        fit(problem, progress=False, cost_tolerance=bad)
