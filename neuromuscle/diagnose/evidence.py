@@ -118,7 +118,7 @@ class Evidence:
 
     def text(self) -> str:
         """One line: the held-out error, gains against penalties, bootstrap, excess removed, failures."""
-        parts = [f"its telling trials {', '.join(self.crossed)} held out too (cross-validation over trials)"] \
+        parts = [f"{', '.join(self.crossed)} held out too (cross-validation over trials)"] \
             if self.crossed else []
         parts += [f"held-out mean NRMSE {self.nrmse_before:.2f} -> {self.nrmse_after:.2f} %",
                  f"held-out chi2 gain {self.chi2_gain:.1f} vs BIC penalty {self.bic_penalty:.1f}",

@@ -38,8 +38,9 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    (better where one acts, worse where the other does) and the second one's fit alone lands on the first one's
    misfit.  The material candidate and a second one (the fitted candidate with the best score among those beyond
    noise, else the best-screened one) are fitted together (the baseline parameters either interacts with free,
-   from each one's own fit), and each is judged against the model with the other alone, by every rule.  When
-   both pass, both are named at this step, the material one first.
+   from each one's own fit), and each is judged against the model with the other alone, by every rule (by
+   cross-validation over trials, as in step 4, when either was judged so alone).  When both pass, both are named
+   at this step, the material one first.
 
 The search ends when no candidate passes, none is left, or after ``MAX_STEPS`` causes.  Each step estimates the
 trials' noise again from the residuals of the model it starts from (:func:`noise_under`).
@@ -186,6 +187,7 @@ class Context:
     alone: dict[str, FittedModel] = field(default_factory=dict)
     crossed: dict[tuple[str, ...], Context] = field(default_factory=dict)
     refits: dict[str, FittedModel] = field(default_factory=dict)
+    candidates: dict[str, FittedModel] = field(default_factory=dict)
 
     @property
     def trials(self) -> list[Trial]:
@@ -455,7 +457,8 @@ def crossed(ctx: Context, trials: Sequence[str]) -> Context:
     sub = ctx.crossed.get(key)
     if sub is None:
         sub = replace(ctx, calibration=tuple(i for i in ctx.calibration if i not in key),
-                      heldout=tuple(ctx.heldout) + key, baseline=None, alone={}, crossed={}, refits={})
+                      heldout=tuple(ctx.heldout) + key, baseline=None, alone={}, crossed={}, refits={},
+                      candidates={})
         ctx.crossed[key] = sub
     sub.noise = ctx.noise
     return sub
@@ -483,12 +486,21 @@ def judge_crossed(ctx: Context, c: Candidate, before: FittedModel) -> Evidence:
     if sub.baseline is None and ctx.baseline is not None:
         sub.baseline = refit_on(sub, ctx.baseline)  # rule R8's reference and the baseline's excess, in this split
     before_cv = refit_on(sub, before)  # kept by name: the baseline's refit itself at the first step
-    model = fit_candidate(sub, c.name, before_cv, c.screen)
-    if before is ctx.baseline:
-        sub.alone[c.name] = model
+    model = candidate_on(sub, c, before_cv, before is ctx.baseline)
     ev = judge(sub, c.name, before_cv, model, c.telling_calibration)
     ev.crossed = tuple(c.telling_calibration)
     return ev
+
+
+def candidate_on(sub: Context, c: Candidate, before_cv: FittedModel, at_baseline: bool = False) -> FittedModel:
+    """Candidate ``c`` fitted on the cross-validation split ``sub`` from ``before_cv`` (that model refitted there),
+    from its usual starts; kept by model name for the whole selection."""
+    name = f"{before_cv.name} + {c.name}"
+    if name not in sub.candidates:
+        sub.candidates[name] = fit_candidate(sub, c.name, before_cv, c.screen)
+    if at_baseline:
+        sub.alone[c.name] = sub.candidates[name]
+    return sub.candidates[name]
 
 
 def pair_for(s: Step) -> tuple[Candidate, Candidate] | None:
@@ -510,10 +522,25 @@ def pair_for(s: Step) -> tuple[Candidate, Candidate] | None:
     return (first, max(others, key=lambda c: c.screen.score)) if others else None
 
 
+def fit_together(ctx: Context, before: FittedModel, alone: Mapping[str, FittedModel]) -> FittedModel:
+    """``before`` plus the two causes of ``alone`` (name -> that cause's model alone on ``before``), fitted together
+    on ``ctx``'s calibration trials: the baseline parameters either interacts with free, from each one's own fit
+    with the other's extension parameters added."""
+    (a, ma), (b, mb) = alone.items()
+    free = tuple(dict.fromkeys(refitted(ctx, a) + refitted(ctx, b)))
+    own = {n: {q: m.parameters[q] for q in extension_defaults(n)} for n, m in alone.items()}
+    starts = {f"{a} model": ma.parameters.with_values(own[b]), f"{b} model": mb.parameters.with_values(own[a])}
+    ctx.say(f"  fitting {before.name} + {a} + {b} together")
+    return fit_model(before.extensions + (a, b), free, starts, ctx.calibration_trials, ctx.trials, ctx.noise,
+                     pool=ctx.pool, fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE)
+
+
 def joint(ctx: Context, s: Step) -> Joint | None:
     """Step 6 of the module docstring at step ``s`` (where no candidate passed alone): the pair of
     :func:`pair_for`, fitted together and each judged against the model with the other alone; None when there is
-    no pair."""
+    no pair.  When either was judged by cross-validation over trials, both are judged so, on the split that holds
+    out every trial either was cross-validated with: the model before, each one alone and the pair fitted again
+    there.  The pair's model is the one fitted on all calibration trials."""
     pair = pair_for(s)
     if pair is None:
         return None
@@ -521,18 +548,22 @@ def joint(ctx: Context, s: Step) -> Joint | None:
     if not second.fitted:
         fit_alone(ctx, second, s.before)
     names = (first.name, second.name)
-    free = tuple(dict.fromkeys(refitted(ctx, first.name) + refitted(ctx, second.name)))
-    own = {c.name: {q: c.model.parameters[q] for q in extension_defaults(c.name)} for c in (first, second)}
-    starts = {f"{first.name} model": first.model.parameters.with_values(own[second.name]),
-              f"{second.name} model": second.model.parameters.with_values(own[first.name])}
-    ctx.say(f"  fitting {s.before.name} + {first.name} + {second.name} together")
-    model = fit_model(s.before.extensions + names, free, starts, ctx.calibration_trials, ctx.trials, ctx.noise,
-                      pool=ctx.pool, fixed_extensions=s.before.extensions, tolerance=CANDIDATE_TOLERANCE)
     alone = {first.name: first.model, second.name: second.model}
+    model = fit_together(ctx, s.before, alone)
+    key = tuple(dict.fromkeys(t for c in pair for t in c.evidence.crossed))
+    where, judged, together = ctx, alone, model
+    if key:
+        where = crossed(ctx, key)
+        ctx.say(f"    judged with {', '.join(key)} held out as well")
+        before_cv = refit_on(where, s.before)
+        judged = {c.name: candidate_on(where, c, before_cv) for c in pair}
+        together = fit_together(where, before_cv, judged)
     evidence = {}
-    for c in (first, second):
+    for c in pair:
         other = second if c is first else first
-        evidence[c.name] = judge(ctx, c.name, other.model, model, c.telling_heldout)
+        held = list(c.telling_heldout) + [t for t in c.telling_calibration if t in key]
+        evidence[c.name] = judge(where, c.name, judged[other.name], together, held)
+        evidence[c.name].crossed = key
         ctx.say(f"    {c.name} beside {other.name}: {evidence[c.name].text()}")
     return Joint(names, model, alone, evidence)
 

@@ -195,3 +195,48 @@ def test_a_candidate_whose_telling_trials_all_calibrate_is_judged_with_them_held
     fit_alone(ctx, staircase, baseline)
     assert len(fits) == 6 and judged[-1][1:3] == (("twitch", "train", "long_train"), ("held_train",))
     assert staircase.evidence.crossed == ()
+
+
+def test_a_pair_with_a_cross_validated_candidate_is_judged_on_that_split(monkeypatch):
+    """Two at once where one candidate was cross-validated alone: the pair is fitted on the file's split (the model
+    named), and the model before, each candidate alone and the pair again without that candidate's telling trials;
+    each is judged there against the other alone, its own telling trials held out, and says so."""
+    fits, judged = [], []
+    p = load_parameters("CT09").with_values({**selection.extension_defaults("fatigue"),
+                                             **selection.extension_defaults("staircase")})
+
+    def fake_fit(extensions, baseline_free, starts, calibration, *args, **kwargs):
+        fits.append((tuple(extensions), tuple(t for t in calibration)))
+        return SimpleNamespace(name=" + ".join(("baseline",) + tuple(extensions)), start="model before",
+                               extensions=tuple(extensions), cost=1.0, simulated={}, parameters=p)
+
+    def fake_judge(ctx, name, before, model, held):
+        judged.append((name, tuple(ctx.calibration), before.name, model.name, tuple(held)))
+        return evidence()
+
+    monkeypatch.setattr(selection, "fit_model", fake_fit)
+    monkeypatch.setattr(selection, "calibration_chi2", lambda ctx, simulated: 2.0)
+    monkeypatch.setattr(selection, "judge", fake_judge)
+    monkeypatch.setattr(selection, "_starts", lambda ctx, name, before, screened: {})
+    baseline = SimpleNamespace(name="baseline", extensions=(), simulated={}, parameters=p)
+    data = SimpleNamespace(trials={i: i for i in ("twitch", "train", "long_train", "held_train")})
+    ctx = selection.Context(data, {}, ("twitch", "train", "long_train"), ("held_train",), {}, None, ("P0",))
+    ctx.baseline = baseline
+    fatigue, staircase = Candidate("fatigue", ["long_train"], []), Candidate("staircase", ["train"], ["held_train"])
+    for c in (fatigue, staircase):
+        c.screen = SimpleNamespace(score=10.0)
+        fit_alone(ctx, c, baseline)
+    fatigue.evidence.failed = {"R7": "failed"}  # material alone, fails another rule: a pair is tried
+    del fits[:], judged[:]
+    j = joint(ctx, Step(1, baseline, {"fatigue": fatigue, "staircase": staircase}))
+    both = ("fatigue", "staircase")
+    assert fits == [(both, ("twitch", "train", "long_train")),   # the pair on the file's split: the model named
+                    (("staircase",), ("twitch", "train")),       # staircase alone without fatigue's telling trial
+                    (both, ("twitch", "train"))]                 # (the refitted baseline and fatigue alone: kept)
+    assert judged == [("fatigue", ("twitch", "train"), "baseline + staircase", "baseline + fatigue + staircase",
+                       ("long_train",)),
+                      ("staircase", ("twitch", "train"), "baseline + fatigue", "baseline + fatigue + staircase",
+                       ("held_train",))]
+    assert j.model.name == "baseline + fatigue + staircase" and j.alone["staircase"] is staircase.model
+    assert all(e.crossed == ("long_train",) for e in j.evidence.values())
+    assert "long_train held out too" in j.evidence["staircase"].text()
