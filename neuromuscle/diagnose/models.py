@@ -17,7 +17,7 @@ calibration trials and simulates every trial with the result:
   it interacts with (``Extension.interacts``) put back at the base set's values: a baseline that bent Module 3 to
   absorb a length effect does not trap the length extension's fit in the bend;
 * **convergence** is stated, never assumed: a fit converges when scipy's relative tolerance is met or when its
-  last three iterations lowered the chi-square by less than ``COST_TOLERANCE`` each on average; one that stops at
+  last three iterations together lowered the chi-square by less than ``COST_TOLERANCE``; one that stops at
   ``max_iterations`` says so (``converged``).
 
 Simulation: fixed step ``DT_MS`` (ms, the largest the fixed-step scheme allows: it resolves the 3 ms release
@@ -58,9 +58,9 @@ MAX_ITERATIONS = 15
 MODEL_MAX_ITERATIONS = 24
 #: Iterations every start of a fit gets before the best one continues alone.
 RACE_ITERATIONS = 2
-#: Every fit here is also converged where its last three iterations lowered the calibration chi-square by less than
-#: this each on average: a change of one in chi-square moves a parameter by about one standard error, and the rules
-#: judge gains against BIC penalties of several units a parameter.
+#: Every fit here is also converged where its last three iterations together lowered the calibration chi-square by
+#: less than this: further iterations would move no parameter by as much as a standard error (a change of one in
+#: chi-square), and the rules judge gains against BIC penalties of several units a parameter.
 COST_TOLERANCE = 1.0
 
 

@@ -96,7 +96,7 @@ def trust_region_least_squares(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, r
     """scipy's trust-region reflective least squares in z within [lo, hi], Jacobian by :func:`fd_jacobian`;
     tol is scipy's ftol/xtol/gtol; returns z, a message and (J, r) at z if known.  One iteration = one
     Jacobian; after ``max_iterations`` the monitor's best point is returned.  cost_tol: also stop, converged, at
-    an iterate where the last ``COST_WINDOW`` iterations lowered the cost |r|^2 by less than this each on average
+    an iterate where the last ``COST_WINDOW`` iterations together lowered the cost |r|^2 by less than this
     (absolute: a chi-square for residuals weighted by 1/sd); scipy's relative ftol alone lets a fit crawl along a
     flat valley for many iterations, each lowering the cost by a part in 10^4 that no decision can see.
     jacobian_run_all: evaluates the Jacobian's candidates and its own base point (e.g. simulations at a coarser
@@ -132,7 +132,7 @@ def trust_region_least_squares(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, r
         cost = float(r0 @ r0)
         monitor.iteration(z, cost)
         costs.append(cost)
-        settled = len(costs) > COST_WINDOW and costs[-1 - COST_WINDOW] - cost < COST_WINDOW * (cost_tol or 0.0)
+        settled = len(costs) > COST_WINDOW and costs[-1 - COST_WINDOW] - cost < (cost_tol or 0.0)
         if cost_tol is not None and settled:
             raise _CostSettled(z)
         return j
@@ -149,7 +149,7 @@ def trust_region_least_squares(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, r
     except _CostSettled as settled:
         z = settled.z
         message = (f"the cost settled: the last {COST_WINDOW} iterations lowered it by "
-                   f"{costs[-1 - COST_WINDOW] - costs[-1]:.3g} in all, less than {cost_tol:g} each on average")
+                   f"{costs[-1 - COST_WINDOW] - costs[-1]:.3g} < {cost_tol:g}")
     return z, message, last.get(z.tobytes())
 
 

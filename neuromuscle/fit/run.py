@@ -178,8 +178,8 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     and ``pool`` (a TrialPool holding the problem's trials) does the same on a pool the caller keeps.
     checkpoint: JSON path written after every iteration; resume=True starts from it.
     tolerance: scipy's ftol/xtol/gtol (least_squares) or praxis' tolerance in z.  cost_tolerance (least_squares):
-    also converged where the last three iterations lowered the cost by less than this each on average, in the
-    cost's own units (a chi-square when the residuals are weighted by 1/sd).  max_iterations: iterations
+    also converged where the last three iterations together lowered the cost by less than this, in the cost's own
+    units (a chi-square when the residuals are weighted by 1/sd).  max_iterations: iterations
     (Jacobians; praxis: rounds of 2k+2 evaluations) of this call; the best point so far is returned after it.
     fd, fd_step: finite differences (:func:`.optimizers.fd_jacobian`).  ident_rcond, max_rel_se: the
     identifiability flags (``Rules.for_fit``).  intervals: how the 95 % intervals are made, one of
