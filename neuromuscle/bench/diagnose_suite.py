@@ -209,6 +209,7 @@ def _evidence_row(ev: Evidence) -> dict[str, Any]:
             "window": ev.window_how, "window_chi2_gain": None if window is None else round(window, 1),
             "quiet_chi2_gain": None if ev.quiet_chi2_gain is None else round(ev.quiet_chi2_gain, 1),
             "structured_before": len(ev.structured_before), "failed": sorted(ev.failed),
+            "cross_validated_trials": list(ev.crossed),
             "trials": {i: {"gain": round(t["gain"], 1), "excess": round(t["excess"], 1),
                            **({"window_chi2_gain": round(ev.window_trials[i]["chi2_gain"], 1)}
                               if i in ev.window_trials else {})}

@@ -555,8 +555,10 @@ def joint(ctx: Context, s: Step) -> Joint | None:
     if key:
         where = crossed(ctx, key)
         ctx.say(f"    judged with {', '.join(key)} held out as well")
+        if where.baseline is None and ctx.baseline is not None:
+            where.baseline = refit_on(where, ctx.baseline)  # rule R8's reference, in this split
         before_cv = refit_on(where, s.before)
-        judged = {c.name: candidate_on(where, c, before_cv) for c in pair}
+        judged = {c.name: candidate_on(where, c, before_cv, s.before is ctx.baseline) for c in pair}
         together = fit_together(where, before_cv, judged)
     evidence = {}
     for c in pair:

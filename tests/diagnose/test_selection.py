@@ -197,13 +197,11 @@ def test_a_candidate_whose_telling_trials_all_calibrate_is_judged_with_them_held
     assert staircase.evidence.crossed == ()
 
 
-def test_a_pair_with_a_cross_validated_candidate_is_judged_on_that_split(monkeypatch):
-    """Two at once where one candidate was cross-validated alone: the pair is fitted on the file's split (the model
-    named), and the model before, each candidate alone and the pair again without that candidate's telling trials;
-    each is judged there against the other alone, its own telling trials held out, and says so."""
+def _pair_world(monkeypatch):
+    """A fake four-trial file whose fits and judgements are recorded: (context, baseline, fits, judgements)."""
     fits, judged = [], []
-    p = load_parameters("CT09").with_values({**selection.extension_defaults("fatigue"),
-                                             **selection.extension_defaults("staircase")})
+    p = load_parameters("CT09").with_values({q: v for n in ("fatigue", "staircase", "doublet_potentiation")
+                                             for q, v in selection.extension_defaults(n).items()})
 
     def fake_fit(extensions, baseline_free, starts, calibration, *args, **kwargs):
         fits.append((tuple(extensions), tuple(t for t in calibration)))
@@ -222,6 +220,14 @@ def test_a_pair_with_a_cross_validated_candidate_is_judged_on_that_split(monkeyp
     data = SimpleNamespace(trials={i: i for i in ("twitch", "train", "long_train", "held_train")})
     ctx = selection.Context(data, {}, ("twitch", "train", "long_train"), ("held_train",), {}, None, ("P0",))
     ctx.baseline = baseline
+    return ctx, baseline, fits, judged
+
+
+def test_a_pair_with_a_cross_validated_candidate_is_judged_on_that_split(monkeypatch):
+    """Two at once where one candidate was cross-validated alone: the pair is fitted on the file's split (the model
+    named), and the model before, each candidate alone and the pair again without that candidate's telling trials;
+    each is judged there against the other alone, its own telling trials held out, and says so."""
+    ctx, baseline, fits, judged = _pair_world(monkeypatch)
     fatigue, staircase = Candidate("fatigue", ["long_train"], []), Candidate("staircase", ["train"], ["held_train"])
     for c in (fatigue, staircase):
         c.screen = SimpleNamespace(score=10.0)
@@ -240,3 +246,24 @@ def test_a_pair_with_a_cross_validated_candidate_is_judged_on_that_split(monkeyp
     assert j.model.name == "baseline + fatigue + staircase" and j.alone["staircase"] is staircase.model
     assert all(e.crossed == ("long_train",) for e in j.evidence.values())
     assert "long_train held out too" in j.evidence["staircase"].text()
+
+
+def test_a_pair_of_candidates_cross_validated_on_different_trials_is_judged_with_both_held_out(monkeypatch):
+    """Both of the pair cross-validated alone, on different trials: the split that holds out both sets gets its own
+    refitted baseline (rule R8's reference) and each candidate alone on it, kept as its fit at the baseline."""
+    ctx, baseline, fits, judged = _pair_world(monkeypatch)
+    fatigue, doublet = Candidate("fatigue", ["long_train"], []), Candidate("doublet_potentiation", ["train"], [])
+    for c in (fatigue, doublet):
+        c.screen = SimpleNamespace(score=10.0)
+        fit_alone(ctx, c, baseline)
+    fatigue.evidence.failed = {"R7": "failed"}
+    del fits[:], judged[:]
+    j = joint(ctx, Step(1, baseline, {"fatigue": fatigue, "doublet_potentiation": doublet}))
+    both = ("fatigue", "doublet_potentiation")
+    assert fits == [(both, ("twitch", "train", "long_train")), ((), ("twitch",)), (("fatigue",), ("twitch",)),
+                    (("doublet_potentiation",), ("twitch",)), (both, ("twitch",))]
+    sub = ctx.crossed[("long_train", "train")]
+    assert sub.baseline is not None and set(sub.alone) == set(both)
+    assert [(name, held) for name, _, _, _, held in judged] == [("fatigue", ("long_train",)),
+                                                               ("doublet_potentiation", ("train",))]
+    assert all(e.crossed == ("long_train", "train") for e in j.evidence.values())
