@@ -452,7 +452,8 @@ def fit_alone(ctx: Context, c: Candidate, before: FittedModel) -> None:
 def crossed(ctx: Context, trials: Sequence[str]) -> Context:
     """The split with the calibration trials ``trials`` moved to the held-out side (module docstring, step 4):
     where a candidate whose telling trials all calibrate is judged.  One per set of trials, kept for the whole
-    selection (its refitted models with it); it judges with the step's noise."""
+    selection (its refitted models with it, among them the baseline: rule R8's reference and the baseline's
+    excess in this split); it judges with the step's noise."""
     key = tuple(trials)
     sub = ctx.crossed.get(key)
     if sub is None:
@@ -461,6 +462,8 @@ def crossed(ctx: Context, trials: Sequence[str]) -> Context:
                       candidates={})
         ctx.crossed[key] = sub
     sub.noise = ctx.noise
+    if sub.baseline is None and ctx.baseline is not None:
+        sub.baseline = refit_on(sub, ctx.baseline)
     return sub
 
 
@@ -483,8 +486,6 @@ def judge_crossed(ctx: Context, c: Candidate, before: FittedModel) -> Evidence:
     sub = crossed(ctx, c.telling_calibration)
     ctx.say(f"    {c.name}: every telling trial calibrates; judged with {', '.join(c.telling_calibration)} held "
             "out as well")
-    if sub.baseline is None and ctx.baseline is not None:
-        sub.baseline = refit_on(sub, ctx.baseline)  # rule R8's reference and the baseline's excess, in this split
     before_cv = refit_on(sub, before)  # kept by name: the baseline's refit itself at the first step
     model = candidate_on(sub, c, before_cv, before is ctx.baseline)
     ev = judge(sub, c.name, before_cv, model, c.telling_calibration)
@@ -555,8 +556,6 @@ def joint(ctx: Context, s: Step) -> Joint | None:
     if key:
         where = crossed(ctx, key)
         ctx.say(f"    judged with {', '.join(key)} held out as well")
-        if where.baseline is None and ctx.baseline is not None:
-            where.baseline = refit_on(where, ctx.baseline)  # rule R8's reference, in this split
         before_cv = refit_on(where, s.before)
         judged = {c.name: candidate_on(where, c, before_cv, s.before is ctx.baseline) for c in pair}
         together = fit_together(where, before_cv, judged)
