@@ -6,8 +6,10 @@ import pytest
 import json
 import re
 
-from neuromuscle.bench.diagnose_suite import (NULL_ROW, SuiteCase, judge_case, read_journals, score,
+from neuromuscle.bench.diagnose_suite import (NULL_ROW, SuiteCase, _evidence_row, judge_case, read_journals, score,
                                               score_journals, suite_cases, table_lines)
+from neuromuscle.diagnose.evidence import Evidence
+from neuromuscle.diagnose.rules import apply_rules
 from neuromuscle.errors import InputError
 from neuromuscle.cli import main
 from neuromuscle.synth import CAUSES, OUTSIDE
@@ -138,3 +140,19 @@ def test_a_bad_journal_is_refused_naming_its_file_and_line(tmp_path, text, messa
 def test_bad_suite_arguments_are_refused_before_any_work(argv, message, capsys):
     assert main(["bench", "diagnose", *argv]) != 0
     assert message in capsys.readouterr().err
+
+
+def test_a_candidates_row_says_which_rules_it_failed_and_why_with_the_windows_bootstrap():
+    """A journal row tells a rule R7 failure by the window's bootstrap from one by its gain, without a re-run."""
+    ev = Evidence(3, gain=900.0, chi2_gain=600.0, bic_penalty=20.0, bootstrap_p05=150.0, excess=1000.0,
+                  nrmse_before=5.0, nrmse_after=4.0, structured_before=["a"], identified=["x.k"],
+                  calibration_chi2_gain=400.0, calibration_penalty=25.0, window_how="defined",
+                  window_chi2_gain=4904.94, window_penalty=19.2, window_p05=-1130.7,
+                  window_trials={"a": {"chi2_gain": 4904.94}}, per_trial={"a": {"gain": 900.0, "excess": 1000.0}},
+                  crossed=("a",))
+    row = _evidence_row(apply_rules(ev))
+    assert row["failed"] == ["R7"] and "bootstrap 5th percentile -1.13e+03" in row["why"]["R7"]
+    assert row["window_chi2_gain"] == 4904.9 and row["window_p05"] == -1130.7
+    assert row["quiet_chi2_gain"] is None and row["quiet_p05"] is None
+    assert row["cross_validated_trials"] == ["a"] and row["trials"]["a"]["window_chi2_gain"] == 4904.9
+    json.dumps(row)  # a journal line
