@@ -204,13 +204,12 @@ def _rounded(value: float | None, digits: int = 1) -> float | None:
 def _evidence_row(ev: Evidence) -> dict[str, Any]:
     """A candidate's evidence in a suite row: gains (held-out and calibration), excess, window with its bootstrap,
     and the rules it failed with why."""
-    share, window, own = ev.share_of_baseline_excess, ev.window_chi2_gain, ev.own_share
     return {"chi2_gain": round(ev.chi2_gain, 1), "calibration_chi2_gain": round(ev.calibration_chi2_gain, 1),
             "score": round(ev.score, 1), "excess": round(ev.excess, 1),
             "excess_removed": round(ev.excess_removed, 3),
-            "share_of_baseline_excess": None if share is None else round(share, 3),
-            "own_share": None if own is None else round(own, 3),
-            "window": ev.window_how, "window_chi2_gain": None if window is None else round(window, 1),
+            "share_of_baseline_excess": _rounded(ev.share_of_baseline_excess, 3),
+            "own_share": _rounded(ev.own_share, 3),
+            "window": ev.window_how, "window_chi2_gain": _rounded(ev.window_chi2_gain),
             "window_p05": _rounded(ev.window_p05),
             "quiet_chi2_gain": _rounded(ev.quiet_chi2_gain), "quiet_p05": _rounded(ev.quiet_p05),
             "structured_before": len(ev.structured_before), "failed": sorted(ev.failed), "why": dict(ev.failed),
