@@ -179,8 +179,10 @@ def smoothed_rate_hz(train_ms: np.ndarray, grid_ms: np.ndarray) -> np.ndarray:
     raw[~valid] = 0.0
     step = float(grid_ms[1] - grid_ms[0]) if grid_ms.size > 1 else 1.0
     w = np.hanning(max(int(round(SMOOTHING_MS / step)), 3))
-    num = np.convolve(raw, w, mode="same")
-    den = np.convolve(valid.astype(float), w, mode="same")
+    # "full" then the centred grid-length part: "same" returns the window's length when it is the longer
+    lead = (w.size - 1) // 2
+    num = np.convolve(raw, w, mode="full")[lead:lead + grid_ms.size]
+    den = np.convolve(valid.astype(float), w, mode="full")[lead:lead + grid_ms.size]
     with np.errstate(invalid="ignore", divide="ignore"):
         sm = num / den
     out[valid] = sm[valid]

@@ -81,3 +81,12 @@ def test_plateau_rate_decline_of_units_firing_through_the_plateau():
     assert ds.plateau_rate_decline_hz([slowing], plateau, edge_ms=2000.0) == pytest.approx(7.5)
     assert ds.plateau_rate_decline_hz([steady, late], (0.0, 5900.0), edge_ms=2000.0) == 0.0
     assert np.isnan(ds.plateau_rate_decline_hz([late], (0.0, 5900.0), edge_ms=2000.0))
+
+
+def test_smoothed_rate_of_a_firing_shorter_than_the_smoothing_window():
+    # every unit of a trial firing for less than SMOOTHING_MS: the rate keeps the grid's length
+    grid = np.arange(0.0, 0.6 * ds.SMOOTHING_MS, 1.0)
+    rate = ds.smoothed_rate_hz(_train(10.0, 0.0, grid[-1]), grid)
+    assert rate.shape == grid.shape
+    assert np.nanmax(np.abs(rate - 10.0)) < 1e-9
+    assert ds.delta_f([_train(10.0, 0.0, 900.0), _train(12.0, 0.0, 800.0)]).pairs == 0
