@@ -1,20 +1,24 @@
 """Current-clamp measurements of one motoneuron (any cell of the pool's interface, ``pool.cells``): rheobase, AHP
-duration, f-I slope, hysteresis on a triangle, self-sustained firing, and the rates under a common synaptic drive.
+duration, f-I slope, hysteresis on a triangle, self-sustained firing, the rates under a common synaptic drive,
+and the recruitment hysteresis and paired-unit Delta F of cells under one slow synaptic triangle.
 
 Each builds its own IClamp at the soma, runs through the Simulator (fixed step, from ``v_init_mV``) and removes
-the clamp.  ``python -m neuromuscle.pool.excitability`` prints the cells' figures (S to FF) as JSON.
+the clamp.  ``python -m neuromuscle.pool.excitability`` prints the cells' figures (S to FF) as JSON;
+``--synaptic-triangle NM [NM ...]`` the synaptic triangle's figures at those neuromodulations instead
+(``--set NAME=VALUE``: a motoneuron parameter replaced in every cell, e.g. ``--set cal_vhalf_mV=-50``).
 Units: nA, ms, mV, Hz, uS.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
 from ..sim import Simulator
 from .cells import MotoneuronCell
+from .discharge_stats import DeltaF, delta_f
 from .motoneuron import Motoneuron
 
 _THRESHOLD_MV = -10.0
@@ -165,6 +169,55 @@ def synaptic_rates_hz(cell: MotoneuronCell, conductances_uS: Sequence[float], du
     return np.array(out)
 
 
+@dataclass(frozen=True)
+class SynapticTriangle:
+    """Cells under one common synaptic triangle 0 -> ``peak_uS`` -> 0 (``rise_ms`` each way): each cell's drive
+    (uS) at its first and last spike (``on_uS``, ``off_uS``; NaN if it never fired) and the paired-unit Delta F
+    of their discharges taken together, as a pool's units under one drive (``delta_f``)."""
+
+    sizes: tuple[float, ...]
+    neuromodulation: float
+    on_uS: np.ndarray
+    off_uS: np.ndarray
+    delta_f: DeltaF
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready figures."""
+        return {"sizes": list(self.sizes), "neuromodulation": self.neuromodulation,
+                "on_uS": [float(x) for x in self.on_uS], "off_uS": [float(x) for x in self.off_uS],
+                "delta_f": self.delta_f.summary()}
+
+
+def synaptic_triangle(sizes: Sequence[float], neuromodulation: float, *, peak_uS: float = 0.5,
+                      rise_ms: float = 10000.0, step_ms: float = 10.0, dt_ms: float = 0.025,
+                      **overrides: Any) -> SynapticTriangle:
+    """Run each cell at size index ``sizes`` (0..1; ``overrides``: motoneuron parameters replaced in each) alone
+    under the common synaptic conductance 0 -> ``peak_uS`` (uS, the cell's total) -> 0, ``rise_ms`` (ms) each
+    way, set every ``step_ms`` (ms); report recruitment and derecruitment drives and the paired-unit Delta F.
+
+    Unlike a current injected at the soma, the synaptic conductance also depolarises and shunts the dendrite
+    that holds the PIC, as the drive of a voluntary contraction does."""
+    from neuron import h
+
+    from .motoneuron import motoneuron_parameters
+
+    times = np.arange(0.0, 2.0 * rise_ms + step_ms / 2, step_ms)
+    drive = peak_uS * (1.0 - np.abs(times - rise_ms) / rise_ms)
+    trains, on, off = [], [], []
+    for x in sizes:
+        with Motoneuron(motoneuron_parameters(float(x), neuromodulation=neuromodulation, **overrides)) as mn:
+            tv = h.Vector(times)
+            kept = mn.play_synaptic_conductance(tv, drive)
+            sp, _ = clamp_run(mn, [0.0], [0.0], 2.0 * rise_ms, steps=True, dt_ms=dt_ms)
+            for vec in kept:
+                vec.play_remove()
+        trains.append(sp)
+        on.append(float(np.interp(sp[0], times, drive)) if sp.size else np.nan)
+        off.append(float(np.interp(sp[-1], times, drive)) if sp.size else np.nan)
+    return SynapticTriangle(tuple(float(x) for x in sizes), float(neuromodulation), np.array(on), np.array(off),
+                            delta_f(trains))
+
+
 def cell_facts(size: float, neuromodulation: float = 0.0) -> dict[str, float]:
     """The figures a physiologist measures on the cell at ``size`` (0..1) and ``neuromodulation``: input
     resistance (MOhm), rheobase (nA, 200-ms steps), AHP duration (ms), steady f-I slopes (Hz/nA) over 1.25-2 and
@@ -182,7 +235,32 @@ def cell_facts(size: float, neuromodulation: float = 0.0) -> dict[str, float]:
                 "fi_primary_Hz_per_nA": primary, "fi_secondary_Hz_per_nA": secondary}
 
 
-if __name__ == "__main__":
+def main(argv: Sequence[str] | None = None) -> list[dict[str, Any]]:
+    """Command line (module docstring); prints and returns the figures."""
+    import argparse
     import json
 
-    print(json.dumps([cell_facts(x) for x in (0.0, 0.25, 0.5, 0.75, 1.0)], indent=1))
+    ap = argparse.ArgumentParser(description="The motoneurons' figures, S to FF, as JSON.")
+    ap.add_argument("--synaptic-triangle", type=float, nargs="+", metavar="NM",
+                    help="cells of sizes 0, 0.1, ..., 0.6 under a 10-s synaptic triangle to 0.5 uS, at each NM")
+    ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="a motoneuron parameter replaced in every cell (synaptic triangle only)")
+    a = ap.parse_args(argv)
+    overrides: dict[str, float] = {}
+    for item in a.set:
+        name, sep, value = item.partition("=")
+        if not sep:
+            ap.error(f"--set {item!r}: expected NAME=VALUE")
+        overrides[name.strip()] = float(value)
+    if a.synaptic_triangle:
+        sizes = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6]
+        out = [{**synaptic_triangle(sizes, nm, **overrides).summary(), "overrides": overrides}
+               for nm in a.synaptic_triangle]
+    else:
+        out = [cell_facts(x) for x in (0.0, 0.25, 0.5, 0.75, 1.0)]
+    print(json.dumps(out, indent=1))
+    return out
+
+
+if __name__ == "__main__":
+    main()

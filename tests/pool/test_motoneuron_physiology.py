@@ -19,8 +19,8 @@ import pytest
 from neuromuscle.pool import discharge_stats
 from neuromuscle.pool.excitability import (ahp_duration_ms, clamp_run, fi_slope_Hz_per_nA,
                                            input_resistance_step_MOhm, rheobase_nA, self_sustained_ms,
-                                           synaptic_rates_hz)
-from neuromuscle.pool.motoneuron import Motoneuron, motoneuron_parameters
+                                           synaptic_rates_hz, synaptic_triangle)
+from neuromuscle.pool.motoneuron import HUMAN_NEUROMODULATION, Motoneuron, motoneuron_parameters
 
 S, FF = 0.0, 1.0
 
@@ -101,9 +101,29 @@ def test_delta_f_is_set_by_neuromodulation():
     assert not bare.per_test_unit_hz or bare.median_hz < 1.0
 
 
+def test_synaptic_triangle_hysteresis_is_the_pics():
+    # without a PIC a cell stops where it started (its AHP and the drive's rate of change aside); with the
+    # human neuromodulation the smallest cells fire on well below their recruitment drive
+    sizes = (0.0, 0.3)
+    bare = synaptic_triangle(sizes, 0.0, rise_ms=4000.0)
+    assert np.all(np.isfinite(bare.on_uS)) and np.allclose(bare.off_uS, bare.on_uS, rtol=0.1)
+    modulated = synaptic_triangle(sizes, HUMAN_NEUROMODULATION, rise_ms=4000.0)
+    assert modulated.on_uS[0] < bare.on_uS[0]
+    assert modulated.off_uS[0] < 0.75 * modulated.on_uS[0]
+    assert modulated.summary()["delta_f"]["pairs"] == modulated.delta_f.pairs
+
+
 def test_self_sustained_firing_with_strong_neuromodulation(rheobases):
     bias = 0.5 * rheobases[S]
     with _cell(S, 1.0) as mn:
         assert self_sustained_ms(mn, bias, rheobases[S]) > 2500.0
     with _cell(S, 0.0) as mn:
         assert self_sustained_ms(mn, bias, rheobases[S]) == 0.0
+
+
+def test_excitability_command_rejects_a_setting_without_a_value(capsys):
+    from neuromuscle.pool.excitability import main
+
+    with pytest.raises(SystemExit):
+        main(["--synaptic-triangle", "0.6", "--set", "cal_vhalf_mV"])
+    assert "NAME=VALUE" in capsys.readouterr().err
