@@ -36,8 +36,11 @@ PIC's strength in vivo (Heckman, Lee & Brownstone 2003; Heckman & Enoka 2012).  
 Heckman 1998); ``HUMAN_NEUROMODULATION``: moderate, giving the recruitment-derecruitment hysteresis of human
 motor units (Delta F of a few Hz by the paired-unit method: Gorassini, Yang, Eken & Bennett 2002).  The PIC
 activates from about -65 mV (half-activation -57 mV, slope 4 mV), just below the spike threshold, as in the
-decerebrate cat (Lee & Heckman 1998: onset a few mV below recruitment).  Units: um, ohm cm2, S/cm2, ms, mV, m/s,
-mm, mM.
+decerebrate cat (Lee & Heckman 1998: onset a few mV below recruitment).
+
+Late adaptation (``g_ks_S_per_cm2``, off by default): a slow potassium current in the soma (mod/mn_ks.mod) that
+each spike activates a little and that decays with ``ks_tau_ms``, so that a steady discharge slows over seconds,
+the faster cells more (Kernell & Monster 1982).  Units: um, ohm cm2, S/cm2, ms, mV, m/s, mm, mM.
 """
 
 from __future__ import annotations
@@ -115,6 +118,8 @@ class MotoneuronParameters:
     cal_vhalf_mV: float = -57.0
     cal_slope_mV: float = 4.0
     neuromodulation: float = HUMAN_NEUROMODULATION
+    g_ks_S_per_cm2: float = 0.0
+    ks_tau_ms: float = 10000.0
     dend_nseg: int = 3
 
     def __post_init__(self) -> None:
@@ -250,6 +255,7 @@ class Motoneuron:
             self.dend.insert("mn_pic")
             for s in self.dend:
                 s.mn_pic.gbar, s.mn_pic.vhalf, s.mn_pic.slope = p.g_pic_S_per_cm2, p.cal_vhalf_mV, p.cal_slope_mV
+            self._insert_slow_adaptation()
             return
         for mech in ("mn_naf", "mn_kdr", "mn_can", "mn_cadyn", "mn_kca"):
             self.soma.insert(mech)
@@ -261,6 +267,15 @@ class Motoneuron:
         self.dend.insert("mn_cal")
         for s in self.dend:
             s.mn_cal.gbar, s.mn_cal.vhalf, s.mn_cal.slope = p.g_pic_S_per_cm2, p.cal_vhalf_mV, p.cal_slope_mV
+        self._insert_slow_adaptation()
+
+    def _insert_slow_adaptation(self) -> None:
+        """The soma's slow potassium current mn_ks (late adaptation) when g_ks_S_per_cm2 > 0; nothing otherwise."""
+        p = self.params
+        if p.g_ks_S_per_cm2 > 0:
+            self.soma.insert("mn_ks")
+            m = self.soma(0.5).mn_ks
+            m.gbar, m.mtau, m.ek = p.g_ks_S_per_cm2, p.ks_tau_ms, p.ek_mV
 
     @property
     def axon_delay_ms(self) -> float:

@@ -83,3 +83,33 @@ def test_scales_multiply_size_dependent_parameters_only():
     assert slow.ca_decay_ms == pytest.approx(2.0 * base.ca_decay_ms) and slow.soma_diam_um == base.soma_diam_um
     with pytest.raises(InputError, match="only size-dependent"):
         motoneuron_parameters(0.3, scales={"ek_mV": 2.0})
+
+
+def _rates_over_time(size, amp_factor=1.5, **overrides):
+    """Mean rate (Hz) in the first and the last 2 s of an 8-s step at amp_factor x rheobase (no PIC)."""
+    import numpy as np
+
+    from neuromuscle.pool.excitability import clamp_run
+
+    with Motoneuron(motoneuron_parameters(size, neuromodulation=0.0, **overrides)) as mn:
+        rb = rheobase_nA(mn, upper_nA=80.0, tolerance_nA=0.2)
+        sp, _ = clamp_run(mn, [0.0], [amp_factor * rb], 8000.0, steps=True)
+    def rate(a, b):
+        s = sp[(sp >= a) & (sp < b)]
+        return (s.size - 1) * 1000.0 / (s[-1] - s[0])
+
+    return rate(500.0, 2500.0), rate(6000.0, 8000.0), np.asarray(sp)
+
+
+def test_late_adaptation_slows_a_steady_discharge_the_faster_cell_more():
+    ks = dict(g_ks_S_per_cm2=0.1, ks_tau_ms=2000.0)
+    with Motoneuron(motoneuron_parameters(0.0)) as mn:        # off by default: no mechanism inserted
+        assert not hasattr(mn.soma(0.5), "mn_ks")
+    s_early, s_late, _ = _rates_over_time(0.0, **ks)
+    f_early, f_late, _ = _rates_over_time(1.0, **ks)
+    s_bare_early, s_bare_late, _ = _rates_over_time(0.0)
+    assert abs(s_bare_late - s_bare_early) < 0.2            # without it the discharge holds its rate
+    assert s_late < s_early - 0.5 and f_late < f_early - 0.5
+    assert f_early - f_late > s_early - s_late              # the faster (FF) cell adapts more in Hz
+    with Motoneuron(motoneuron_parameters(0.0, **ks), channels="separate") as mn:   # the reference channels too
+        assert mn.soma(0.5).mn_ks.gbar == 0.1 and mn.soma(0.5).mn_ks.mtau == 2000.0

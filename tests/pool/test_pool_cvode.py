@@ -60,3 +60,16 @@ def test_local_dt_needs_cvode_and_is_put_back(ct09):
     before = h.CVode().use_local_dt()
     _ramp_pool(ct09, Simulator(method="cvode", local_dt=True, max_wall_s=None), per_unit_section=True)
     assert h.CVode().use_local_dt() == before and h.CVode().active() == 0
+
+
+def test_late_adaptation_under_cvode_agrees_with_fixed_step(ct09):
+    # the slow K (mn_ks, cnexp) with a short time constant so that it acts within the run
+    def run(sim):
+        d = PoolDefinition(2, ct09, motoneuron_overrides={"g_ks_S_per_cm2": 0.1, "ks_tau_ms": 100.0})
+        with Pool(d) as pool:
+            pool.drive_current_ramp([0.0, 400.0], [0.0, 30.0])
+            return pool.run(400.0, sim)
+
+    fine, cv = run(Simulator(dt_ms=0.00625)), run(Simulator(method="cvode", atol=1e-4))
+    assert [s.size for s in cv.spikes_ms] == [s.size for s in fine.spikes_ms] and fine.spikes_ms[0].size > 5
+    assert _first_spike_gap_ms(cv, fine) < 0.5 and _force_gap(cv, fine) < 0.05

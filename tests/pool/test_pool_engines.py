@@ -47,6 +47,15 @@ def test_coreneuron_pool_is_neurons_bit_for_bit(ct09, muscle, substeps, channels
     assert b.provenance["settings"]["engine"] == "coreneuron"
 
 
+def test_coreneuron_runs_the_late_adaptation_bit_for_bit(ct09):
+    d = PoolDefinition(4, ct09, muscle_model="fused", muscle_substeps=8,
+                       motoneuron_overrides={"g_ks_S_per_cm2": 0.1, "ks_tau_ms": 100.0})
+    a, b = _run(d, "neuron", duration_ms=400.0), _run(d, "coreneuron", duration_ms=400.0)
+    _assert_same(a, b)
+    bare = _run(PoolDefinition(4, ct09, muscle_model="fused", muscle_substeps=8), "neuron", duration_ms=400.0)
+    assert sum(s.size for s in a.spikes_ms) < sum(s.size for s in bare.spikes_ms)   # the slow K acts
+
+
 @pytest.mark.parametrize("muscle, substeps", [("modules", 1), ("fused", 8)])
 def test_coreneuron_under_crank_nicolson_is_neurons_bit_for_bit(ct09, muscle, substeps):
     """secondorder 2: both engines halve dt in the mechanisms' METHOD euler blocks, which count the whole step.  The
