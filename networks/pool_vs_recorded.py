@@ -8,8 +8,9 @@ Caillet et al. 2022, 2023; read by path, never copied):
    whose thresholds come closest to the published ones and the MVC drive follow (calibration, once per muscle);
 2. the drive that makes the pool's force (% of its MVC) follow the recorded force is the ramp's force-drive
    relation inverted (rising branch, then falling branch after the plateau), corrected ``--corrections`` times by
-   the remaining error; the trial starts 0.5 s before the recorded force leaves its baseline, so that the pool
-   starts at rest as the muscle did;
+   the remaining error, each correction from the best pass so far (``follow_force.follow``, which keeps the best
+   pass); the trial starts 0.5 s before the recorded force leaves its baseline, so that the pool starts at rest
+   as the muscle did;
 3. the pool's discharges are compared with the recorded ones (``neuromuscle.pool.recorded_comparison``): per-unit
    median and peak rates, recruitment thresholds (KS distance), onion skin, paired-unit Delta F;
 4. the same for the model units a decomposition of the recording would identify
@@ -18,7 +19,8 @@ Caillet et al. 2022, 2023; read by path, never copied):
 The units are not matched one to one.
 
 Run: python networks/pool_vs_recorded.py --out DIR [--file F.mat ...] [--units N] [--corrections K] [--full]
-                                          [--seed S] [--depth-attenuation A]
+                                          [--seed S] [--depth-attenuation A] [--neuromodulation NM]
+                                          [--set NAME=VALUE ...]
 Default: S1_30_36L.mat, 40 units, one correction, seed 0, the module's depth attenuation.  --full: every file, 80
 units.  The depth attenuation was estimated on S1_30_256 with
 ``python -m neuromuscle.pool.identification DIR/S1_30_256.json`` (40 units).  Writes, per file,
@@ -38,9 +40,9 @@ from typing import Any
 
 import numpy as np
 
-from neuromuscle.analysis.metrics import nrmse_percent
 from neuromuscle.pool.discharges import RecordedDischarges, load_caillet
 from neuromuscle.pool.follow_force import HUMAN_MUSCLES, Calibration, P0Spread, calibrate, run_drive
+from neuromuscle.pool.follow_force import follow as follow_force
 from neuromuscle.pool.identification import DEFAULT_SEED, DEPTH_ATTENUATION, IdentificationModel
 from neuromuscle.pool.recorded_comparison import Comparison, compare_discharges
 from neuromuscle.reports.figures import label_axes, legend, new_figure, save_figure, set_title
@@ -74,16 +76,15 @@ def follow(path: Path, cal: Calibration, spread: P0Spread, corrections: int, dt_
     from neuromuscle.pool.discharge_stats import plateau_window_ms
 
     plateau = plateau_window_ms(t, force)
-    times, drive = cal.drive_for(spread, t, force, descent_ms=plateau[1])
     definition = spread.definition(cal)
-    errors = []
-    for k in range(corrections + 1):
-        result = run_drive(definition, times, drive, trial.duration_ms, dt_ms=dt_ms)
-        model = spread.percent_mvc(result.pool_force_N - result.pool_force_N[0])
-        errors.append(nrmse_percent(np.interp(result.t_ms, t, force), model))
-        print(f"{path.name}: pass {k}, force NRMSE {errors[-1]:.2f} % of the recorded range", file=sys.stderr)
-        if k < corrections:
-            times, drive = cal.correct_drive(spread, times, drive, result, t, force, descent_ms=plateau[1])
+
+    def report(k: int, nrmse: float) -> None:
+        print(f"{path.name}: pass {k}, force NRMSE {nrmse:.2f} % of the recorded range", file=sys.stderr)
+
+    best = follow_force(cal, spread, t, force, lambda times, drive: run_drive(definition, times, drive,
+                        trial.duration_ms, dt_ms=dt_ms), corrections=corrections, descent_ms=plateau[1], report=report)
+    times, drive, result, model, errors = (best.times_ms, best.drive_uS, best.result, best.force_percent,
+                                           list(best.nrmse_passes))
     cmp = compare_discharges(trial, result.spikes_ms, result.t_ms, model, p0_N=spread.p0_N(cal.rank),
                              motor_units=motor_units, identification=identification)
     return {"trial": trial, "result": result, "model_force": model, "times": times, "drive": drive,
@@ -120,7 +121,7 @@ def figure(out: Path, name: str, run: dict[str, Any]) -> None:
     ax2.set_ylabel("drive (uS)", color="C0", fontsize=8)
     label_axes(ax, x="time (s)", y="force (% MVC)")
     legend(ax, small=True)
-    set_title(ax, f"{name}: the pool follows the recorded force (NRMSE {run['nrmse_percent'][-1]:.1f} %)")
+    set_title(ax, f"{name}: the pool follows the recorded force (NRMSE {min(run['nrmse_percent']):.1f} %)")
     ax = axes[1]
     lo, hi = c.medians_range_hz
     ax.axhspan(lo, hi, color="0.85", label="recorded 5th-95th pct of medians")
@@ -210,8 +211,24 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--seed", type=int, default=DEFAULT_SEED, help="seed of the identification's unit depths")
     ap.add_argument("--depth-attenuation", type=float, default=DEPTH_ATTENUATION,
                     help="ln of a unit's surface-energy ratio, muscle surface / deep face (identification)")
+    ap.add_argument("--neuromodulation", type=float, default=None,
+                    help="the motoneurons' PIC strength (default neuromuscle.pool.motoneuron.HUMAN_NEUROMODULATION)")
+    ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="a motoneuron parameter replaced in every cell, e.g. g_ks_S_per_cm2=0.03 (repeatable)")
     ap.add_argument("--overwrite", action="store_true")
     a = ap.parse_args(argv)
+    overrides: dict[str, float] = {}
+    for item in a.set:
+        key, sep, value = item.partition("=")
+        if not sep:
+            ap.error(f"--set {item!r}: expected NAME=VALUE")
+        try:
+            overrides[key.strip()] = float(value)
+        except ValueError:
+            ap.error(f"--set {item!r}: the value is not a number")
+    options: dict[str, Any] = {"motoneuron_overrides": overrides}
+    if a.neuromodulation is not None:
+        options["neuromodulation"] = a.neuromodulation
     names = list(ALL_FILES) if a.full and not a.file else (a.file or ["S1_30_36L.mat"])
     paths = [Path(f) if Path(f).is_file() else Path(a.data_dir) / f for f in names]
     stems = [p.stem for p in paths]
@@ -225,7 +242,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     for path in paths:
         m = muscle_of(path)
         if m not in calibrations:
-            cal = calibrate(HUMAN_MUSCLES[m].definition(n), dt_ms=a.dt_ms)
+            cal = calibrate(HUMAN_MUSCLES[m].definition(n, **options), dt_ms=a.dt_ms)
             calibrations[m] = (cal, cal.fit_p0_spread(HUMAN_MUSCLES[m]))
             sp = calibrations[m][1]
             print(f"{m}: P0 range {sp.range_ratio:.3g}, exponent {sp.exponent:.3g}, MVC drive "
@@ -235,11 +252,12 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         run = follow(path, cal, spread, a.corrections, a.dt_ms, ident_model, HUMAN_MUSCLES[m].motor_units)
         cmp: Comparison = run["comparison"]
         summary = cmp.summary()
-        row = {"file": path.name, "muscle": m, "nrmse_percent": run["nrmse_percent"][-1],
+        row = {"file": path.name, "muscle": m, "nrmse_percent": min(run["nrmse_percent"]),
                "nrmse_percent_passes": run["nrmse_percent"], "summary": summary,
                "pool": {"units": n, "p0_range": spread.range_ratio, "p0_exponent": spread.exponent,
                         "mvc_drive_uS": spread.mvc_drive_uS, "thresholds_rms_percent": spread.rms_error_percent,
-                        "neuromodulation": cal.definition.neuromodulation},
+                        "neuromodulation": cal.definition.neuromodulation,
+                        "motoneuron_overrides": dict(cal.definition.motoneuron_overrides)},
                "identification": {**ident_model.provenance(), "motor_units": HUMAN_MUSCLES[m].motor_units},
                "units": unit_table(cmp, spread.p0_N(cal.rank)),
                "recorded_thresholds_percent_mvc": [float(x) for x in cmp.recorded.thresholds_percent]}

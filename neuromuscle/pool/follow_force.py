@@ -7,6 +7,7 @@ one slow calibration ramp, and the common synaptic drive that gives the recorded
     times, drive = cal.drive_for(spread, t_ms, force_percent_mvc, descent_ms=...)   # force -> drive (inverted)
     result = run_drive(spread.definition(cal), times, drive, duration_ms)
     times, drive = cal.correct_drive(spread, times, drive, result, t_ms, force_percent_mvc)   # one more pass
+    best = follow(cal, spread, t_ms, force_percent_mvc, run, corrections=3, descent_ms=...)    # all of it
 
 Calibration: the pool with every unit's P0 = 1 N runs one slow triangle of the common synaptic drive (0 ->
 ``top_uS`` -> 0); Module 3 is homogeneous in P0 (``force_calibration``), so each unit's force per newton along the
@@ -19,8 +20,10 @@ closest (least squares) to the muscle's published distribution: fitted to the li
 they are compared with.
 Drive for a force: the ramp's force against drive, rising branch up to ``descent_ms`` and falling branch after
 it (the PIC's hysteresis), inverted; ``correct_drive`` adds the remaining force error divided by the local slope
-(one step of iterative learning control).  Units: ms, uS (the drive: each motoneuron's total synaptic
-conductance), N (forces per newton of P0), % MVC.
+(one step of iterative learning control); ``follow`` runs the inverted drive and its corrections, each from the
+best drive so far, halving the step after one that did not bring the force closer (a pool whose units adapt or
+keep firing in their hysteresis band is not the calibration's static map, and a full step can overshoot).
+Units: ms, uS (the drive: each motoneuron's total synaptic conductance), N (forces per newton of P0), % MVC.
 """
 
 from __future__ import annotations
@@ -30,6 +33,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..analysis.metrics import nrmse_percent
 from ..errors import InputError
 from ..parameters import load_parameters
 from ..sim import Simulator
@@ -201,22 +205,69 @@ class Calibration:
 
     def correct_drive(self, spread: P0Spread, times: np.ndarray, drive: np.ndarray, result: PoolResult,
                       t_ms: np.ndarray, force_percent: np.ndarray, *, descent_ms: float = np.inf,
-                      lag_ms: float = 100.0, smooth_ms: float = 200.0, max_step: float = 0.1
+                      lag_ms: float = 100.0, smooth_ms: float = 200.0, max_step: float = 0.1, gain: float = 1.0
                       ) -> tuple[np.ndarray, np.ndarray]:
-        """One step of iterative learning control: the drive plus the force error ``lag_ms`` later (the muscle's
-        delay) divided by the slope of the branch in use (rising before ``descent_ms``, falling after), smoothed
-        over ``smooth_ms``, each change at most ``max_step`` of the MVC drive, and the drive kept within the
-        physiological range (0 to the MVC drive)."""
+        """One step of iterative learning control: the drive plus ``gain`` times the force error ``lag_ms`` later
+        (the muscle's delay) divided by the slope of the branch in use (rising before ``descent_ms``, falling
+        after), smoothed over ``smooth_ms``, each change at most ``max_step`` of the MVC drive, and the drive kept
+        within the physiological range (0 to the MVC drive)."""
         (gu, fu), (gd, fd) = self.branches(spread.p0_N(self.rank))
         model = spread.percent_mvc(result.pool_force_N - result.pool_force_N[0])
         err = np.interp(times + lag_ms, t_ms, force_percent) - np.interp(times + lag_ms, result.t_ms, model)
         floor = 0.05 * spread.mvc_force / max(spread.mvc_drive_uS, 1e-12)
         slope = np.where(times < descent_ms, _slope(gu, fu, drive), _slope(gd, fd, drive))
-        step = err * spread.mvc_force / 100.0 / np.maximum(slope, floor)
+        step = positive_number("gain", gain) * err * spread.mvc_force / 100.0 / np.maximum(slope, floor)
         k = max(int(round(smooth_ms / (times[1] - times[0]))), 1)
         step = np.convolve(step, np.ones(k) / k, mode="same")
         limit = max_step * spread.mvc_drive_uS
         return times, np.clip(drive + np.clip(step, -limit, limit), 0.0, spread.mvc_drive_uS)
+
+
+@dataclass(frozen=True)
+class FollowedForce:
+    """The pass of ``follow`` whose force came closest to the target: the drive (uS at ``times_ms``), the run,
+    its force (% MVC at ``result.t_ms``), and every pass's force NRMSE (% of the target's range) in order."""
+
+    times_ms: np.ndarray
+    drive_uS: np.ndarray
+    result: PoolResult
+    force_percent: np.ndarray
+    nrmse_passes: tuple[float, ...]
+
+    @property
+    def nrmse_percent(self) -> float:
+        """The chosen pass's force NRMSE (% of the target's range): the smallest of the passes."""
+        return min(self.nrmse_passes)
+
+
+def follow(cal: Calibration, spread: P0Spread, t_ms: np.ndarray, force_percent: np.ndarray,
+           run: Callable[[np.ndarray, np.ndarray], PoolResult], *, corrections: int, descent_ms: float,
+           report: Callable[[int, float], None] | None = None) -> FollowedForce:
+    """Find the drive whose pool force follows ``force_percent`` (% MVC at ``t_ms``, ms): the calibration inverted
+    (``drive_for``), then ``corrections`` steps of ``correct_drive``, each from the best pass so far; a step that
+    does not lower the NRMSE halves the next one's gain.  ``run(times_ms, drive_uS)`` runs the pool (e.g.
+    ``run_drive`` with its definition and duration); ``report(pass, nrmse)`` is told each pass's NRMSE."""
+    if not isinstance(corrections, int) or isinstance(corrections, bool) or corrections < 0:
+        raise InputError(f"corrections must be an integer >= 0, got {corrections!r}")
+    times, drive = cal.drive_for(spread, t_ms, force_percent, descent_ms=descent_ms)
+    best: tuple[np.ndarray, np.ndarray, PoolResult, np.ndarray, float] | None = None
+    errors: list[float] = []
+    gain = 1.0
+    for k in range(corrections + 1):
+        result = run(times, drive)
+        model = spread.percent_mvc(result.pool_force_N - result.pool_force_N[0])
+        errors.append(nrmse_percent(np.interp(result.t_ms, t_ms, force_percent), model))
+        if report is not None:
+            report(k, errors[-1])
+        if best is None or errors[-1] < best[-1]:
+            best = (times, drive, result, model, errors[-1])
+        else:
+            gain *= 0.5
+        if k < corrections:
+            times, drive = cal.correct_drive(spread, best[0], best[1], best[2], t_ms, force_percent,
+                                             descent_ms=descent_ms, gain=gain)
+    assert best is not None
+    return FollowedForce(best[0], best[1], best[2], best[3], tuple(errors))
 
 
 def _slope(g: np.ndarray, f: np.ndarray, at: np.ndarray) -> np.ndarray:

@@ -68,3 +68,27 @@ def test_a_small_pool_calibrates():
     cal = calibrate(TA.definition(3), top_uS=1.0, ramp_ms=1500.0, dt_ms=0.05)
     assert np.all(np.isfinite(cal.onset_uS)) and np.all(np.diff(cal.onset_uS) > 0)   # the size principle
     assert cal.basis.shape[0] == 3 and cal.basis.max() > 0.1
+
+
+def test_follow_keeps_the_best_pass_and_shortens_a_step_that_overshot(cal):
+    # a plant three times as strong as the calibration: full ILC steps overshoot; the kept pass is the best one
+    from neuromuscle.pool.follow_force import follow
+
+    s = cal.spread_for(5.0, 1.0, TA)
+    (gu, fu), _ = cal.branches(s.p0_N(cal.rank))
+    t = np.arange(0.0, 3001.0, 10.0)
+    target = np.interp(t, [0.0, 1000.0, 3000.0], [0.0, 40.0, 40.0])
+
+    def plant(times, drive):
+        force_N = 3.0 * np.interp(drive, gu, fu)
+        return PoolResult(times, np.vstack([np.r_[0.0, force_N[1:]]]), [np.array([])], [{}], "synaptic")
+
+    seen = []
+    best = follow(cal, s, t, target, plant, corrections=4, descent_ms=1e9, report=lambda k, e: seen.append((k, e)))
+    assert [k for k, _ in seen] == [0, 1, 2, 3, 4] and list(best.nrmse_passes) == [e for _, e in seen]
+    assert best.nrmse_percent == min(best.nrmse_passes) < best.nrmse_passes[0]
+    assert best.nrmse_passes[-1] == best.nrmse_percent < 10.0   # full steps would diverge (error x -2 a pass)
+    model = s.percent_mvc(best.result.pool_force_N - best.result.pool_force_N[0])
+    assert np.allclose(model, best.force_percent)
+    with pytest.raises(InputError, match="corrections"):
+        follow(cal, s, t, target, plant, corrections=-1, descent_ms=1e9)

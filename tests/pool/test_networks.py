@@ -67,9 +67,13 @@ def test_recorded_discharges_default(tmp_path, network_script):
 
 @pytest.mark.skipif(not CAILLET.is_dir(), reason=f"Caillet real-data folder {CAILLET} is absent")
 def test_pool_vs_recorded_briefly(tmp_path, network_script):
-    s = network_script("pool_vs_recorded").main(["--out", str(tmp_path / "out"), "--units", "12", "--corrections", "1",
-                                          "--dt-ms", "0.05"])
+    script = network_script("pool_vs_recorded")
+    s = script.main(["--out", str(tmp_path / "out"), "--units", "12", "--corrections", "1", "--dt-ms", "0.05",
+                     "--neuromodulation", "0.6", "--set", "ks_tau_ms=8000"])   # g_ks 0: the slow K stays out
     row = s["files"][0]
+    assert row["pool"]["motoneuron_overrides"] == {"ks_tau_ms": 8000.0} and row["pool"]["neuromodulation"] == 0.6
+    with pytest.raises(SystemExit):
+        script.main(["--out", str(tmp_path / "bad"), "--set", "ks_tau_ms"])
     assert row["file"] == "S1_30_36L.mat" and row["muscle"] == "TA"
     assert row["nrmse_percent"] < 10.0 < row["nrmse_percent_passes"][0]   # the correction brings the force in
     crit = row["summary"]["criteria"]
