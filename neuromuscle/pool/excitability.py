@@ -188,7 +188,7 @@ class SynapticTriangle:
                 "delta_f": self.delta_f.summary()}
 
 
-def synaptic_triangle(sizes: Sequence[float], neuromodulation: float, *, peak_uS: float = 0.5,
+def synaptic_triangle(sizes: Sequence[float], neuromodulation: float, *, peak_uS: float = 0.3,
                       rise_ms: float = 10000.0, step_ms: float = 10.0, dt_ms: float = 0.025,
                       **overrides: Any) -> SynapticTriangle:
     """Run each cell at size index ``sizes`` (0..1; ``overrides``: motoneuron parameters replaced in each) alone
@@ -242,7 +242,8 @@ def main(argv: Sequence[str] | None = None) -> list[dict[str, Any]]:
 
     ap = argparse.ArgumentParser(description="The motoneurons' figures, S to FF, as JSON.")
     ap.add_argument("--synaptic-triangle", type=float, nargs="+", metavar="NM",
-                    help="cells of sizes 0, 0.1, ..., 0.6 under a 10-s synaptic triangle to 0.5 uS, at each NM")
+                    help="cells of sizes 0, 0.1, ..., 0.6 under a synaptic triangle, 10 s each way, at each NM")
+    ap.add_argument("--peak-uS", type=float, default=0.3, help="the synaptic triangle's peak (uS)")
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="a motoneuron parameter replaced in every cell (synaptic triangle only)")
     a = ap.parse_args(argv)
@@ -254,7 +255,7 @@ def main(argv: Sequence[str] | None = None) -> list[dict[str, Any]]:
         overrides[name.strip()] = float(value)
     if a.synaptic_triangle:
         sizes = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6]
-        out = [{**synaptic_triangle(sizes, nm, **overrides).summary(), "overrides": overrides}
+        out = [{**synaptic_triangle(sizes, nm, peak_uS=a.peak_uS, **overrides).summary(), "overrides": overrides}
                for nm in a.synaptic_triangle]
     else:
         out = [cell_facts(x) for x in (0.0, 0.25, 0.5, 0.75, 1.0)]
