@@ -259,8 +259,9 @@ def follow(cal: Calibration, spread: P0Spread, t_ms: np.ndarray, force_percent: 
         errors.append(nrmse_percent(np.interp(result.t_ms, t_ms, force_percent), model))
         if report is not None:
             report(k, errors[-1])
-        if best is None or errors[-1] < best[-1]:
-            best = (times, drive, result, model, errors[-1])
+        score = errors[-1] if np.isfinite(errors[-1]) else np.inf     # a pass with a non-finite force is the worst
+        if best is None or score < best[-1]:
+            best = (times, drive, result, model, score)
         else:
             gain *= 0.5
         if k < corrections:
