@@ -40,10 +40,12 @@ from typing import Any
 
 import numpy as np
 
+from neuromuscle.errors import InputError
 from neuromuscle.pool.discharges import RecordedDischarges, load_caillet
 from neuromuscle.pool.follow_force import HUMAN_MUSCLES, Calibration, P0Spread, calibrate, run_drive
 from neuromuscle.pool.follow_force import follow as follow_force
 from neuromuscle.pool.identification import DEFAULT_SEED, DEPTH_ATTENUATION, IdentificationModel
+from neuromuscle.pool.motoneuron import parse_settings
 from neuromuscle.pool.recorded_comparison import Comparison, compare_discharges
 from neuromuscle.reports.figures import label_axes, legend, new_figure, save_figure, set_title
 from neuromuscle.reports.outdir import prepare_out_dir
@@ -217,15 +219,10 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                     help="a motoneuron parameter replaced in every cell, e.g. g_ks_S_per_cm2=0.03 (repeatable)")
     ap.add_argument("--overwrite", action="store_true")
     a = ap.parse_args(argv)
-    overrides: dict[str, float] = {}
-    for item in a.set:
-        key, sep, value = item.partition("=")
-        if not sep:
-            ap.error(f"--set {item!r}: expected NAME=VALUE")
-        try:
-            overrides[key.strip()] = float(value)
-        except ValueError:
-            ap.error(f"--set {item!r}: the value is not a number")
+    try:
+        overrides = parse_settings(a.set)
+    except InputError as e:
+        ap.error(f"--set: {e}")
     options: dict[str, Any] = {"motoneuron_overrides": overrides}
     if a.neuromodulation is not None:
         options["neuromodulation"] = a.neuromodulation

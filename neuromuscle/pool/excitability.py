@@ -16,10 +16,11 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from ..errors import InputError
 from ..sim import Simulator
 from .cells import MotoneuronCell
 from .discharge_stats import DeltaF, delta_f
-from .motoneuron import Motoneuron
+from .motoneuron import Motoneuron, parse_settings
 
 _THRESHOLD_MV = -10.0
 
@@ -247,12 +248,10 @@ def main(argv: Sequence[str] | None = None) -> list[dict[str, Any]]:
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="a motoneuron parameter replaced in every cell (synaptic triangle only)")
     a = ap.parse_args(argv)
-    overrides: dict[str, float] = {}
-    for item in a.set:
-        name, sep, value = item.partition("=")
-        if not sep:
-            ap.error(f"--set {item!r}: expected NAME=VALUE")
-        overrides[name.strip()] = float(value)
+    try:
+        overrides = parse_settings(a.set)
+    except InputError as e:
+        ap.error(f"--set: {e}")
     if a.synaptic_triangle:
         sizes = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6]
         out = [{**synaptic_triangle(sizes, nm, peak_uS=a.peak_uS, **overrides).summary(), "overrides": overrides}

@@ -184,6 +184,26 @@ def motoneuron_parameters(size: float, unit_type: str | None = None, *, scales: 
     return replace(p, **overrides) if overrides else p
 
 
+def parse_settings(items: Iterable[str]) -> dict[str, float]:
+    """Motoneuron parameters from command-line settings "NAME=VALUE" (e.g. ``cal_vhalf_mV=-52``): a dict for
+    ``motoneuron_parameters(**...)`` or ``PoolDefinition(motoneuron_overrides=...)``; InputError naming the setting
+    when it has no "=", an unknown name or a value that is not a number."""
+    known = {f.name for f in fields(MotoneuronParameters)} - {"unit_type", "size", "dend_nseg"}
+    out: dict[str, float] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep:
+            raise InputError(f"motoneuron setting {item!r}: expected NAME=VALUE")
+        if name not in known:
+            raise InputError(f"motoneuron setting {item!r}: no parameter {name!r}; known: {', '.join(sorted(known))}")
+        try:
+            out[name] = float(value)
+        except ValueError:
+            raise InputError(f"motoneuron setting {item!r}: the value is not a number") from None
+    return out
+
+
 def membrane_area_um2(sections: Iterable[Any]) -> float:
     """Total membrane area (um2) of ``sections``."""
     from neuron import h

@@ -113,3 +113,14 @@ def test_late_adaptation_slows_a_steady_discharge_the_faster_cell_more():
     assert f_early - f_late > s_early - s_late              # the faster (FF) cell adapts more in Hz
     with Motoneuron(motoneuron_parameters(0.0, **ks), channels="separate") as mn:   # the reference channels too
         assert mn.soma(0.5).mn_ks.gbar == 0.1 and mn.soma(0.5).mn_ks.mtau == 2000.0
+
+
+def test_command_line_settings_name_their_fault():
+    from neuromuscle.pool.motoneuron import parse_settings
+
+    assert parse_settings(["cal_vhalf_mV=-52", " g_ks_S_per_cm2 = 0.03"]) == {"cal_vhalf_mV": -52.0,
+                                                                             "g_ks_S_per_cm2": 0.03}
+    for bad, said in (("cal_vhalf_mV", "NAME=VALUE"), ("vhalf=-52", "no parameter 'vhalf'"),
+                      ("cal_vhalf_mV=low", "not a number")):
+        with pytest.raises(InputError, match=said):
+            parse_settings([bad])
