@@ -90,7 +90,7 @@ def follow(path: Path, cal: Calibration, spread: P0Spread, corrections: int, dt_
     cmp = compare_discharges(trial, result.spikes_ms, result.t_ms, model, p0_N=spread.p0_N(cal.rank),
                              motor_units=motor_units, identification=identification)
     return {"trial": trial, "result": result, "model_force": model, "times": times, "drive": drive,
-            "comparison": cmp, "nrmse_percent": errors}
+            "comparison": cmp, "nrmse_percent": errors, "nrmse_best": best.nrmse_percent}
 
 
 def unit_table(cmp: Comparison, p0_N: np.ndarray) -> dict[str, list]:
@@ -123,7 +123,7 @@ def figure(out: Path, name: str, run: dict[str, Any]) -> None:
     ax2.set_ylabel("drive (uS)", color="C0", fontsize=8)
     label_axes(ax, x="time (s)", y="force (% MVC)")
     legend(ax, small=True)
-    set_title(ax, f"{name}: the pool follows the recorded force (NRMSE {min(run['nrmse_percent']):.1f} %)")
+    set_title(ax, f"{name}: the pool follows the recorded force (NRMSE {run['nrmse_best']:.1f} %)")
     ax = axes[1]
     lo, hi = c.medians_range_hz
     ax.axhspan(lo, hi, color="0.85", label="recorded 5th-95th pct of medians")
@@ -249,7 +249,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         run = follow(path, cal, spread, a.corrections, a.dt_ms, ident_model, HUMAN_MUSCLES[m].motor_units)
         cmp: Comparison = run["comparison"]
         summary = cmp.summary()
-        row = {"file": path.name, "muscle": m, "nrmse_percent": min(run["nrmse_percent"]),
+        row = {"file": path.name, "muscle": m, "nrmse_percent": run["nrmse_best"],
                "nrmse_percent_passes": run["nrmse_percent"], "summary": summary,
                "pool": {"units": n, "p0_range": spread.range_ratio, "p0_exponent": spread.exponent,
                         "mvc_drive_uS": spread.mvc_drive_uS, "thresholds_rms_percent": spread.rms_error_percent,

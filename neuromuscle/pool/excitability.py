@@ -202,6 +202,8 @@ def synaptic_triangle(sizes: Sequence[float], neuromodulation: float, *, peak_uS
 
     from .motoneuron import motoneuron_parameters
 
+    if "neuromodulation" in overrides:
+        raise InputError("synaptic_triangle: give the neuromodulation as its argument, not among the overrides")
     times = np.arange(0.0, 2.0 * rise_ms + step_ms / 2, step_ms)
     drive = peak_uS * (1.0 - np.abs(times - rise_ms) / rise_ms)
     trains, on, off = [], [], []

@@ -246,7 +246,8 @@ def follow(cal: Calibration, spread: P0Spread, t_ms: np.ndarray, force_percent: 
     """Find the drive whose pool force follows ``force_percent`` (% MVC at ``t_ms``, ms): the calibration inverted
     (``drive_for``), then ``corrections`` steps of ``correct_drive``, each from the best pass so far; a step that
     does not lower the NRMSE halves the next one's gain.  ``run(times_ms, drive_uS)`` runs the pool (e.g.
-    ``run_drive`` with its definition and duration); ``report(pass, nrmse)`` is told each pass's NRMSE."""
+    ``run_drive`` with its definition and duration); ``report(pass, nrmse)`` is told each pass's NRMSE.  A pass
+    whose force is not finite stops the search with an InputError (``nrmse_percent``)."""
     if not isinstance(corrections, int) or isinstance(corrections, bool) or corrections < 0:
         raise InputError(f"corrections must be an integer >= 0, got {corrections!r}")
     times, drive = cal.drive_for(spread, t_ms, force_percent, descent_ms=descent_ms)
@@ -259,9 +260,8 @@ def follow(cal: Calibration, spread: P0Spread, t_ms: np.ndarray, force_percent: 
         errors.append(nrmse_percent(np.interp(result.t_ms, t_ms, force_percent), model))
         if report is not None:
             report(k, errors[-1])
-        score = errors[-1] if np.isfinite(errors[-1]) else np.inf     # a pass with a non-finite force is the worst
-        if best is None or score < best[-1]:
-            best = (times, drive, result, model, score)
+        if best is None or errors[-1] < best[-1]:
+            best = (times, drive, result, model, errors[-1])
         else:
             gain *= 0.5
         if k < corrections:

@@ -187,14 +187,17 @@ def motoneuron_parameters(size: float, unit_type: str | None = None, *, scales: 
 def parse_settings(items: Iterable[str]) -> dict[str, float]:
     """Motoneuron parameters from command-line settings "NAME=VALUE" (e.g. ``cal_vhalf_mV=-52``): a dict for
     ``motoneuron_parameters(**...)`` or ``PoolDefinition(motoneuron_overrides=...)``; InputError naming the setting
-    when it has no "=", an unknown name or a value that is not a number."""
-    known = {f.name for f in fields(MotoneuronParameters)} - {"unit_type", "size", "dend_nseg"}
+    when it has no "=", an unknown name or a value that is not a number.  The neuromodulation has its own option in
+    each command (a setting would silently replace it) and is refused here."""
+    known = {f.name for f in fields(MotoneuronParameters)} - {"unit_type", "size", "dend_nseg", "neuromodulation"}
     out: dict[str, float] = {}
     for item in items:
         name, sep, value = item.partition("=")
         name = name.strip()
         if not sep:
             raise InputError(f"motoneuron setting {item!r}: expected NAME=VALUE")
+        if name == "neuromodulation":
+            raise InputError(f"motoneuron setting {item!r}: give the neuromodulation by its own option")
         if name not in known:
             raise InputError(f"motoneuron setting {item!r}: no parameter {name!r}; known: {', '.join(sorted(known))}")
         try:

@@ -92,3 +92,16 @@ def test_follow_keeps_the_best_pass_and_shortens_a_step_that_overshot(cal):
     assert np.allclose(model, best.force_percent)
     with pytest.raises(InputError, match="corrections"):
         follow(cal, s, t, target, plant, corrections=-1, descent_ms=1e9)
+
+
+def test_a_pass_with_a_non_finite_force_is_reported_not_kept(cal):
+    from neuromuscle.pool.follow_force import follow
+
+    s = cal.spread_for(5.0, 1.0, TA)
+    t = np.arange(0.0, 3001.0, 10.0)
+
+    def plant(times, drive):   # numerical trouble in the run: a NaN force
+        return PoolResult(times, np.vstack([np.full(times.size, np.nan)]), [np.array([])], [{}], "synaptic")
+
+    with pytest.raises(InputError, match="not finite"):
+        follow(cal, s, t, np.full(t.size, 40.0), plant, corrections=2, descent_ms=1e9)

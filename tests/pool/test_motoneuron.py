@@ -121,6 +121,6 @@ def test_command_line_settings_name_their_fault():
     assert parse_settings(["cal_vhalf_mV=-52", " g_ks_S_per_cm2 = 0.03"]) == {"cal_vhalf_mV": -52.0,
                                                                              "g_ks_S_per_cm2": 0.03}
     for bad, said in (("cal_vhalf_mV", "NAME=VALUE"), ("vhalf=-52", "no parameter 'vhalf'"),
-                      ("cal_vhalf_mV=low", "not a number")):
+                      ("cal_vhalf_mV=low", "not a number"), ("neuromodulation=0.8", "its own option")):
         with pytest.raises(InputError, match=said):
             parse_settings([bad])
