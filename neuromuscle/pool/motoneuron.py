@@ -40,7 +40,14 @@ decerebrate cat (Lee & Heckman 1998: onset a few mV below recruitment).
 
 Late adaptation (``g_ks_S_per_cm2``, off by default): a slow potassium current in the soma (mod/mn_ks.mod) that
 each spike activates a little and that decays with ``ks_tau_ms``, so that a steady discharge slows over seconds,
-the faster cells more (Kernell & Monster 1982).  Units: um, ohm cm2, S/cm2, ms, mV, m/s, mm, mM.
+the faster cells more (Kernell & Monster 1982).
+
+Where the PIC sits (``pic_start_x``, 0 by default: the whole dendrite): the L-type channels of cat motoneurons lie
+in the dendrites away from the soma, in hot spots farther out in larger cells (Elbasiouny, Bennett & Mushahwar
+2005: 300-850 um from the soma; Grande, Bui & Rose 2007); ``pic_start_x`` leaves the dendrite's proximal part (that
+fraction of its length) without PIC and puts the same total conductance on the rest.
+
+Units: um, ohm cm2, S/cm2, ms, mV, m/s, mm, mM.
 """
 
 from __future__ import annotations
@@ -120,6 +127,7 @@ class MotoneuronParameters:
     neuromodulation: float = HUMAN_NEUROMODULATION
     g_ks_S_per_cm2: float = 0.0
     ks_tau_ms: float = 10000.0
+    pic_start_x: float = 0.0
     dend_nseg: int = 3
 
     def __post_init__(self) -> None:
@@ -132,6 +140,10 @@ class MotoneuronParameters:
             v = finite_number(f"{where}: {f.name}", getattr(self, f.name))
             negative_ok = f.name.endswith("_mV")
             zero_ok = f.name.startswith("g_") or f.name == "neuromodulation"
+            if f.name == "pic_start_x":
+                if not 0.0 <= v < 1.0:
+                    raise InputError(f"{where}: pic_start_x must lie in [0, 1), got {v!r}")
+                continue
             if not negative_ok and (v < 0 or (v == 0 and not zero_ok)):
                 raise InputError(f"{where}: {f.name} must be {'>= 0' if zero_ok else '> 0'}, got {v!r}")
         if not isinstance(self.dend_nseg, int) or isinstance(self.dend_nseg, bool) or self.dend_nseg < 1:
@@ -146,6 +158,15 @@ class MotoneuronParameters:
     def g_pic_S_per_cm2(self) -> float:
         """The dendritic PIC's density in the cell (S/cm2): neuromodulation x g_cal_S_per_cm2."""
         return self.neuromodulation * self.g_cal_S_per_cm2
+
+    def pic_densities(self) -> list[float]:
+        """The PIC's density (S/cm2) in each of the dendrite's ``dend_nseg`` segments: ``g_pic_S_per_cm2`` spread
+        over the part of the dendrite beyond ``pic_start_x`` (its normalised distance from the soma), each segment
+        weighted by the share of its length there, so that the cell's total PIC conductance does not depend on
+        where it starts."""
+        n, x0 = self.dend_nseg, self.pic_start_x
+        share = [min(max((i + 1) / n - x0, 0.0), 1.0 / n) * n for i in range(n)]
+        return [self.g_pic_S_per_cm2 * w / (1.0 - x0) for w in share]
 
     def to_dict(self) -> dict[str, Any]:
         """The parameters as a JSON-ready dict."""
@@ -276,8 +297,8 @@ class Motoneuron:
                                               p.g_kca_S_per_cm2)
             m.ena, m.ek, m.depth, m.taur, m.kd = p.ena_mV, p.ek_mV, p.ca_depth_um, p.ca_decay_ms, p.kca_kd_mM
             self.dend.insert("mn_pic")
-            for s in self.dend:
-                s.mn_pic.gbar, s.mn_pic.vhalf, s.mn_pic.slope = p.g_pic_S_per_cm2, p.cal_vhalf_mV, p.cal_slope_mV
+            for s, g in zip(self.dend, p.pic_densities()):
+                s.mn_pic.gbar, s.mn_pic.vhalf, s.mn_pic.slope = g, p.cal_vhalf_mV, p.cal_slope_mV
             self._insert_slow_adaptation()
             return
         for mech in ("mn_naf", "mn_kdr", "mn_can", "mn_cadyn", "mn_kca"):
@@ -288,8 +309,8 @@ class Motoneuron:
         seg.mn_cadyn.depth, seg.mn_cadyn.taur = p.ca_depth_um, p.ca_decay_ms
         self.soma.ena, self.soma.ek = p.ena_mV, p.ek_mV
         self.dend.insert("mn_cal")
-        for s in self.dend:
-            s.mn_cal.gbar, s.mn_cal.vhalf, s.mn_cal.slope = p.g_pic_S_per_cm2, p.cal_vhalf_mV, p.cal_slope_mV
+        for s, g in zip(self.dend, p.pic_densities()):
+            s.mn_cal.gbar, s.mn_cal.vhalf, s.mn_cal.slope = g, p.cal_vhalf_mV, p.cal_slope_mV
         self._insert_slow_adaptation()
 
     def _insert_slow_adaptation(self) -> None:

@@ -61,6 +61,25 @@ def test_pic_gives_hysteresis_on_a_triangle():
     assert with_pic.on_nA < no_pic.on_nA
 
 
+@pytest.mark.parametrize("channels", ["fused", "separate"])
+def test_a_distal_pic_keeps_its_total_and_its_hysteresis(channels):
+    import numpy as np
+
+    from neuron import h
+
+    uniform = motoneuron_parameters(0.0)
+    distal = motoneuron_parameters(0.0, pic_start_x=1.0 / 3.0, dend_nseg=6)
+    mech = "mn_pic" if channels == "fused" else "mn_cal"
+    with Motoneuron(distal, channels=channels) as mn:
+        g = np.array([getattr(seg, mech).gbar for seg in mn.dend])
+        area = np.array([h.area(seg.x, sec=mn.dend) for seg in mn.dend])
+        assert np.all(g[:2] == 0.0) and np.all(g[2:] > uniform.g_pic_S_per_cm2)
+        assert (g * area).sum() == pytest.approx(uniform.g_pic_S_per_cm2 * area.sum(), rel=1e-12)
+        assert triangle_hysteresis(mn, 11.5, rise_ms=5000.0).delta_nA < 0.0   # still fires on below recruitment
+    with Motoneuron(uniform, channels=channels) as mn:
+        assert all(getattr(seg, mech).gbar == uniform.g_pic_S_per_cm2 for seg in mn.dend)
+
+
 def test_axon_delay_and_types():
     s, ff = motoneuron_parameters(0.0), motoneuron_parameters(1.0)
     assert s.axon_delay_ms > ff.axon_delay_ms > 0
@@ -71,7 +90,8 @@ def test_axon_delay_and_types():
 
 
 @pytest.mark.parametrize("bad", [dict(size=1.5), dict(size=float("nan")), dict(size=0.2, soma_diam_um=-3.0),
-                                 dict(size=0.2, unit_type="X"), dict(size=0.2, nonsense=1.0)])
+                                 dict(size=0.2, unit_type="X"), dict(size=0.2, nonsense=1.0),
+                                 dict(size=0.2, pic_start_x=1.0), dict(size=0.2, pic_start_x=-0.1)])
 def test_bad_parameters_are_refused(bad):
     size = bad.pop("size")
     with pytest.raises(InputError):
