@@ -235,7 +235,7 @@ def run_case(case: SuiteCase, workers: int) -> dict[str, Any]:
         d = diagnose_data(without_truth(data), workers=workers)
     except (InputError, NumericalError) as e:  # one case's failure is recorded, and the suite goes on
         return {**row, "error": str(e), "named": [], "wall_s": round(time.perf_counter() - t0, 1)}
-    passed = [n for s in d.steps for n in s.named_causes]
+    passed = d.causes
     sd = float(truth(data)["noise_sd_N"])
     ratio = {i: float(np.sqrt(np.mean((d.baseline.simulated[i] - data.trials[i].force) ** 2))) / sd
              for i in d.split.heldout} if sd > 0 else {}
@@ -254,6 +254,8 @@ def run_case(case: SuiteCase, workers: int) -> dict[str, Any]:
                                **{n: round(c.model.wall_s, 1) for n, c in s.candidates.items() if c.model},
                                **({"consolidation": round(s.consolidated.wall_s, 1)} if s.consolidated else {})}}
                   for s in d.steps],
+        "backward": [{"name": c.name, "round": c.round, "dropped": c.dropped, **_evidence_row(c.evidence),
+                      "seconds": round(c.without.wall_s, 1)} for c in d.checks],
         "baseline_s": round(d.baseline.model.wall_s, 1),
         "baseline_converged": d.baseline.model.converged,
         "baseline_heldout_rms_over_noise": {i: round(v, 3) for i, v in ratio.items()},

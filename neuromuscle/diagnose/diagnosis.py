@@ -4,14 +4,15 @@
     result.verdict                     # the first cause named, "none" or "unexplained"
     result.named                       # every cause named, in order, then "unexplained" when structure remains
 
-Steps: describe every trial (:mod:`.phases`); split the trials into calibration and held-out (:mod:`.split`);
-calibrate the baseline (:mod:`.baseline`); set its residuals against the explanatory variables (:mod:`.residuals`);
-then the forward selection of causes (:mod:`.selection`), each candidate fitted with the baseline freedom of the
-model before it (:mod:`.models`) and judged on the held-out trials (:mod:`.evidence`, :mod:`.rules`).  After the
-last cause, the residual is *unexplained* when structure that no candidate removes is left in enough trials: a
-trend where the model's muscle is quiet (rule R6's test) or a residual RMS above ``ACTIVE_STRUCTURE_RATIO`` noise
-sd while active.  Below that ratio, a preparation's misfit of parameters its trials cannot pin down and an
-effect outside the catalogue cannot be told apart.
+Steps: describe every trial (:mod:`.phases`); split the trials into calibration and held-out (:mod:`.split`); calibrate
+the baseline (:mod:`.baseline`); set its residuals against the explanatory variables (:mod:`.residuals`); then the
+forward selection of causes (:mod:`.selection`), each candidate fitted with the baseline freedom of the model before it
+(:mod:`.models`) and judged on the held-out trials (:mod:`.evidence`, :mod:`.rules`), and the backward check
+(:mod:`.pruning`): a cause named before the last one that fails a rule against the final model without it is dropped.
+After the last cause, the residual is *unexplained* when structure that no candidate removes is left in enough trials: a
+trend where the model's muscle is quiet (rule R6's test) or a residual RMS above ``ACTIVE_STRUCTURE_RATIO`` noise sd
+while active.  Below that ratio, a preparation's misfit of parameters its trials cannot pin down and an effect outside
+the catalogue cannot be told apart.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from .models import FittedModel
 from .phases import TrialPhases, describe_all
 from .residuals import Structure, explanatory_variables, residual_structure
 from .rules import REST_Z, enough_trials
+from .pruning import Check, prune
 from .selection import Context, Step, rest_trends, select
 from .split import Split, automatic_split, given_split
 
@@ -42,8 +44,9 @@ ACTIVE_STRUCTURE_RATIO = 3.0
 @dataclass
 class Diagnosis:
     """Everything the report needs: the data and their descriptions, the split, the baseline, the residual
-    structure of the baseline, every step of the forward selection, the causes named, the final model, the trials
-    still structured under it, each trial's rest trend z under it (None without a rest window), wall time (s)."""
+    structure of the baseline, every step of the forward selection, the backward check's judgements, the causes
+    named (those the backward check kept), the final model, the trials still structured under it, each trial's
+    rest trend z under it (None without a rest window), wall time (s)."""
 
     data: MeasuredData
     phases: dict[str, TrialPhases]
@@ -57,6 +60,7 @@ class Diagnosis:
     rest: dict[str, float | None]
     wall_time_s: float
     variables: dict[str, dict[str, np.ndarray]] = field(repr=False, default_factory=dict)
+    checks: list[Check] = field(default_factory=list)
 
     @property
     def verdict(self) -> str:
@@ -110,8 +114,8 @@ def diagnose_data(data: MeasuredData, *, heldout: Sequence[str] | None = None, b
         structure = residual_structure(data.trials, {i: baseline.simulated[i] - measured[i] for i in data.trials},
                                        variables)
         steps = select(ctx, baseline.model, **({} if max_steps is None else {"max_steps": max_steps}))
-        final = steps[-1].after if steps else baseline.model
-        named = [n for s in steps for n in s.named_causes]
+        pruned = prune(ctx, steps)
+        final, named = pruned.final, list(pruned.named)
         ids = list(data.trials)
         structured = structured_trials(measured, final.simulated, baseline.noise, ids)
         active = structured_trials(measured, final.simulated, baseline.noise, ids, ACTIVE_STRUCTURE_RATIO)
@@ -120,4 +124,4 @@ def diagnose_data(data: MeasuredData, *, heldout: Sequence[str] | None = None, b
             named.append("unexplained")
         ctx.say(f"named: {', '.join(named) or 'none'}")
     return Diagnosis(data, phases, split, baseline, structure, steps, named, final, structured, rest,
-                     time.perf_counter() - t0, variables)
+                     time.perf_counter() - t0, variables, pruned.checks)

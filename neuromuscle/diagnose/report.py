@@ -2,12 +2,14 @@
 
 Writes into DIR (refused when DIR already holds a report, unless overwrite; checked before any work):
 
-* ``diagnosis.json``  schema ``neuromuscle.diagnosis/2``: ``verdict`` (the first cause named, or none /
-  unexplained), ``named`` (every cause in order, each with its held-out gain over the model before it, then
-  "unexplained" when structure remains), every step of the forward selection with its candidates and their
-  evidence, untestable causes, the baseline (parameters, free and held ones, convergence, NRMSE per trial), the
-  final model, the split, the noise per trial, the residual structure and the decision rules;
-* ``report.md``       the causes named first, then each step with its figures, the trials' errors, the rules;
+* ``diagnosis.json``  schema ``neuromuscle.diagnosis/2``: ``verdict`` (the first cause named, or none / unexplained),
+  ``named`` (every cause in order, each with its held-out gain over the model before it, then "unexplained" when
+  structure remains), every step of the forward selection with its candidates and their evidence, the backward check
+  (each cause named before the last one judged against the final model without it; those that fail are dropped from
+  ``named``), untestable causes, the baseline (parameters, free and held ones, convergence, NRMSE per trial), the final
+  model, the split, the noise per trial, the residual structure and the decision rules;
+* ``report.md``       the causes named first, then each step with its figures, the backward check, the trials' errors,
+  the rules;
 * ``params.json``     the final model (the baseline plus every cause named); ``neuromuscle simulate --params
   DIR/params.json --extension NAME ...`` runs it;
 * ``figures/*.png``   measured vs the model before and after each named cause on its deciding held-out trials,
@@ -119,9 +121,11 @@ def _causes(d: Diagnosis) -> list[dict[str, Any]]:
     """Every fitted candidate, the named causes first in their order, then the others of the first step by
     score; each with its evidence against the model before it."""
     out, seen = [], set()
+    dropped = {c.name for c in d.checks if c.dropped}
     for s in d.steps:
         for n in s.named_causes:
-            out.append({**_named_json(d, s, n), "step": s.index, "named": True})
+            out.append({**_named_json(d, s, n), "step": s.index, "named": n not in dropped,
+                        "dropped": n in dropped})
             seen.add(n)
     first = d.steps[0] if d.steps else None
     if first is not None:
@@ -146,7 +150,7 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
     """The content of diagnosis.json."""
     named = []
     for s in d.steps:
-        for n in s.named_causes:
+        for n in (n for n in s.named_causes if n in d.causes):
             ev = s.evidence_of(n)
             named.append({"name": n, "step": s.index, "heldout_chi2_gain": ev.chi2_gain,
                           "bic_penalty": ev.bic_penalty, "excess_removed": ev.excess_removed,
@@ -159,6 +163,9 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
         "steps": [{"step": s.index, "model_before": _model_json(d, s.before), "named": s.named_causes,
                    "candidates": [_candidate_json(d, s, c) for c in s.candidates.values()],
                    "together": _joint_json(d, s)} for s in d.steps],
+        "backward_check": [{"name": c.name, "round": c.round, "dropped": c.dropped,
+                            "against": list(c.without.extensions), "model": _model_json(d, c.without),
+                            "evidence": c.evidence.text(), "statistics": c.evidence.to_json()} for c in d.checks],
         "untestable": ([{"name": c.name, "reason": c.untestable} for c in first.candidates.values() if c.untestable]
                        if first is not None else []),
         "baseline": {"nrmse": {i: nrmse_percent(t.force, b.simulated[i]) for i, t in d.data.trials.items()},
@@ -289,7 +296,7 @@ def markdown(doc: dict[str, Any]) -> str:
             lines += table(("cause", "beside", "evidence"), ((n, e["beside"], e["evidence"])
                                                              for n, e in j["evidence"].items()))
             lines.append("")
-        for c in (c for c in doc["causes"] if c["named"] and c["step"] == s["step"]):
+        for c in (c for c in doc["causes"] if (c["named"] or c.get("dropped")) and c["step"] == s["step"]):
             lines += table((f"{c['name']}: parameter", "value", "unit", "95 % interval", "neutral"),
                            ((q, sig(p["value"], 4), p["unit"], f"[{sig(p['ci95'][0], 4)}, {sig(p['ci95'][1], 4)}]",
                              sig(p["neutral"]) if p["neutral"] is not None else "-")
@@ -298,6 +305,14 @@ def markdown(doc: dict[str, Any]) -> str:
         figs = [(k, v) for k, v in doc["figures"].items() if k.startswith(f"step {s['step']} ")]
         if figs:
             lines += bullets(f"{k}: {link(v)}" for k, v in figs) + [""]
+    if doc["backward_check"]:
+        lines += ["## Backward check", "",
+                  "Each cause named before the last one, judged by every rule against the final model without it "
+                  "(refitted): one that fails is dropped as made redundant by the causes named after it.", ""]
+        lines += table(("round", "cause", "against", "outcome", "evidence"),
+                       ((str(c["round"]), c["name"], " + ".join(["baseline"] + c["against"]),
+                         "dropped" if c["dropped"] else "kept", c["evidence"]) for c in doc["backward_check"]))
+        lines.append("")
     if doc["untestable"]:
         lines += ["Untestable with these data:", ""] + bullets(f"{u['name']}: {u['reason']}"
                                                                for u in doc["untestable"]) + [""]

@@ -36,6 +36,7 @@ def test_diagnosis_json_schema(null_files):
     assert any(c["screening"] is not None for c in cands)
     assert [r["id"] for r in doc["rules"]] == [r.id for r in RULES]
     assert "staircase" in [u["name"] for u in doc["untestable"]]  # no isometric train of >= 5 stimuli at <= 15 Hz
+    assert doc["backward_check"] == []   # nothing named: nothing judged again
 
 
 def test_report_md_named_first_rules_and_figures(null_files):
@@ -83,6 +84,24 @@ def test_report_md_shows_two_causes_named_together(null_files):
     assert f"| {pair[0]} | {pair[1]} | {pair[0]} gains |" in text
     assert f"| {pair[1]} | {pair[0]} | {pair[1]} gains |" in text
     assert all(f"| {n}: parameter |" in text and f"| {n}.k | 0.5 |" in text for n in pair)
+
+
+def test_report_md_shows_the_backward_check(null_files):
+    """A cause dropped by the backward check: the table of its judgement, and its parameters still shown at the
+    step that named it."""
+    _, _, doc = null_files
+    doc = json.loads(json.dumps(doc))
+    doc["steps"][0]["named"] = ["movement_induced_depression"]
+    doc["backward_check"] = [{"name": "movement_induced_depression", "round": 1, "dropped": True,
+                              "against": ["force_depression_after_shortening"], "evidence": "fails R8", "model": {},
+                              "statistics": {}}]
+    doc["causes"] = [{"name": "movement_induced_depression", "named": False, "dropped": True, "step": 1,
+                      "parameters": {"mid.k": {"value": 0.5, "unit": "1", "ci95": [0.4, 0.6], "neutral": 0.0}}}]
+    text = markdown(doc)
+    assert "## Backward check" in text
+    assert ("| 1 | movement_induced_depression | baseline + force_depression_after_shortening | dropped | fails R8 |"
+            in text)
+    assert "| movement_induced_depression: parameter |" in text
 
 
 def test_refuses_to_overwrite(null_files):

@@ -1,0 +1,110 @@
+"""The backward check after the forward selection: every cause named before the last one is judged again, by
+every rule, against the final model without it.
+
+The forward selection names the most material cause first.  When two causes overlap in what they explain, the
+first one named can be the wrong one: it takes up part of the true cause's effect, and the true cause, named
+next, then explains the rest and most of what the first one explained.  The first name is redundant in the
+final model, though it passed every rule against the model before it.  Each such cause is therefore judged
+again as if it were the last candidate proposed: the final model without it, refitted in every free parameter
+from the final values (:func:`without`), is its model before; the final model is its candidate model.  A cause
+that now fails a rule (most often rule R8: it keeps less than half the held-out gain it has alone at the
+baseline, the later causes explaining it) is dropped, the final model becomes the model without it, and the
+check runs again on every cause left, until each passes or one cause is left.  In the first round the causes
+named at the last naming step are not judged again: they were judged against that very model.
+
+A cause the forward selection judged by cross-validation over trials (its telling trials all calibrate) is
+judged so here too, on the same split, both models fitted again there.  The trials' noise is estimated from the
+final model's residuals, as each forward step estimates it from its model before.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+from .evidence import Evidence
+from .models import MODEL_MAX_ITERATIONS, FittedModel, fit_model
+from .selection import Context, Step, crossed, judge, noise_under, refit_on
+
+
+@dataclass
+class Check:
+    """One named cause judged against the final model without it: that model, refitted (``without``), the
+    evidence and the check's round (1, then 2 after a cause was dropped, ...)."""
+
+    name: str
+    without: FittedModel
+    evidence: Evidence
+    round: int
+
+    @property
+    def dropped(self) -> bool:
+        return not self.evidence.passed
+
+
+@dataclass
+class Pruned:
+    """The backward check's outcome: the causes kept, in their order, the final model with them, every check."""
+
+    named: list[str]
+    final: FittedModel
+    checks: list[Check]
+
+    @property
+    def dropped(self) -> list[str]:
+        return [c.name for c in self.checks if c.dropped]
+
+
+def without(ctx: Context, model: FittedModel, name: str) -> FittedModel:
+    """``model`` without extension ``name``, refitted in every baseline free parameter and every parameter of its
+    other extensions, from ``model``'s values."""
+    ctx.say(f"  fitting {model.name} without {name}")
+    exts = tuple(e for e in model.extensions if e != name)
+    return fit_model(exts, ctx.baseline_free, {f"final model without {name}": model.parameters},
+                     ctx.calibration_trials, ctx.trials, ctx.noise, pool=ctx.pool,
+                     max_iterations=MODEL_MAX_ITERATIONS, intervals="hac")
+
+
+def check(ctx: Context, steps: Sequence[Step], name: str, final: FittedModel, rnd: int) -> Check:
+    """Named cause ``name`` judged against ``final`` without it (module docstring)."""
+    s = next(s for s in steps if name in s.named_causes)
+    before = without(ctx, final, name)
+    key = s.evidence_of(name).crossed
+    if key:
+        sub = crossed(ctx, key)
+        ctx.say(f"    {name}: judged with {', '.join(key)} held out as well, as when it was named")
+        ev = judge(sub, name, refit_on(sub, before), refit_on(sub, final), list(key))
+        ev.crossed = tuple(key)
+    else:
+        ev = judge(ctx, name, before, final, s.candidates[name].telling_heldout)
+    ctx.say(f"    {name} against {before.name}: {ev.text()}")
+    return Check(name, before, ev, rnd)
+
+
+def prune(ctx: Context, steps: Sequence[Step]) -> Pruned:
+    """The backward check (module docstring) of the forward selection's ``steps``."""
+    named = [n for s in steps for n in s.named_causes]
+    final = steps[-1].after if steps else ctx.baseline
+    naming = [s for s in steps if s.named is not None]
+    last = set(naming[-1].named_causes) if naming else set()
+    checks: list[Check] = []
+    rnd = 0
+    while len(named) > 1:
+        judged = [n for n in named if n not in last]
+        if not judged:
+            break
+        rnd += 1
+        ctx.noise = noise_under(ctx, final)
+        ctx.say(f"backward check {rnd}: {', '.join(judged)} against {final.name} without each")
+        now = [check(ctx, steps, n, final, rnd) for n in judged]
+        failing = [c for c in now if c.dropped]
+        if not failing:
+            checks += now
+            break
+        worst = min(failing, key=lambda c: c.evidence.score)
+        checks += [c for c in now if c is worst or not c.dropped]   # the other failing ones are judged again
+        ctx.say(f"  dropped {worst.name}: failed {', '.join(worst.evidence.failed)}")
+        named.remove(worst.name)
+        final = worst.without
+        last = set()    # after a drop every cause left is judged against the new final model
+    return Pruned(named, final, checks)
