@@ -207,17 +207,17 @@ class Calibration:
                       t_ms: np.ndarray, force_percent: np.ndarray, *, descent_ms: float = np.inf,
                       lag_ms: float = 100.0, smooth_ms: float = 200.0, max_step: float = 0.1, gain: float = 1.0
                       ) -> tuple[np.ndarray, np.ndarray]:
-        """One step of iterative learning control: the drive plus ``gain`` times the force error ``lag_ms`` later
-        (the muscle's delay) divided by the slope of the branch in use (rising before ``descent_ms``, falling
-        after), smoothed over ``smooth_ms``, each change at most ``max_step`` of the MVC drive, and the drive kept
-        within the physiological range (0 to the MVC drive)."""
+        """One step of iterative learning control: the drive plus ``gain`` times the force error ``lag_ms`` later (the
+        muscle's delay) divided by the slope of the branch in use (rising before ``descent_ms``, falling after),
+        smoothed over ``smooth_ms`` (over the whole trial when it is shorter), each change at most ``max_step`` of the
+        MVC drive, and the drive kept within the physiological range (0 to the MVC drive)."""
         (gu, fu), (gd, fd) = self.branches(spread.p0_N(self.rank))
         model = spread.percent_mvc(result.pool_force_N - result.pool_force_N[0])
         err = np.interp(times + lag_ms, t_ms, force_percent) - np.interp(times + lag_ms, result.t_ms, model)
         floor = 0.05 * spread.mvc_force / max(spread.mvc_drive_uS, 1e-12)
         slope = np.where(times < descent_ms, _slope(gu, fu, drive), _slope(gd, fd, drive))
         step = positive_number("gain", gain) * err * spread.mvc_force / 100.0 / np.maximum(slope, floor)
-        k = max(int(round(smooth_ms / (times[1] - times[0]))), 1)
+        k = min(max(int(round(smooth_ms / (times[1] - times[0]))), 1), step.size)   # a trial shorter than the window
         step = np.convolve(step, np.ones(k) / k, mode="same")
         limit = max_step * spread.mvc_drive_uS
         return times, np.clip(drive + np.clip(step, -limit, limit), 0.0, spread.mvc_drive_uS)

@@ -242,12 +242,12 @@ def play_synaptic_conductance(sections: Sequence[Any], times_ms: Any, conductanc
     the membrane of ``sections`` (mod/mn_syn.mod, which NEURON and CoreNEURON both run; one Vector.play a
     segment, its values set as events at those times, not interpolated every step).  events=False: a continuous
     play of the same steps (each value held to the next time: CoreNEURON plays no events into a density
-    mechanism).  Returns the Vectors to keep alive."""
+    mechanism).  Returns the Vectors to keep alive (``times_ms`` among them)."""
     from neuron import h
 
     density = 100.0 / membrane_area_um2(sections)   # S/cm2 per uS of the cell's total: 1e-6 S / (A um2 * 1e-8)
     values = np.asarray(conductance_uS, float) * density
-    kept = []
+    kept = [times_ms]   # a play whose time Vector is freed stops: the caller need not keep it
     if not events:  # each value held until the next time: two knots at every step
         t = np.asarray(times_ms, float)
         times_ms = h.Vector(np.repeat(t, 2)[1:])

@@ -62,6 +62,10 @@ def test_the_drive_inverts_the_ramp_and_a_zero_error_leaves_it(cal):
     result = PoolResult(times, np.vstack([np.r_[0.0, force_N[1:]]]), [np.array([])], [{}], "synaptic")
     _, again = cal.correct_drive(s, times, drive, result, t, np.full(t.size, target), lag_ms=0.0, smooth_ms=20.0)
     assert np.allclose(again[5:-5], drive[5:-5], atol=1e-9)
+    short = slice(0, 6)   # a trial of 100 ms, shorter than the smoothing window: the drive keeps its length
+    sub = PoolResult(times[short], result.unit_force_N[:, short], [np.array([])], [{}], "synaptic")
+    _, again = cal.correct_drive(s, times[short], drive[short], sub, t[:101], np.full(101, target), lag_ms=0.0)
+    assert again.shape == drive[short].shape and np.all(np.isfinite(again))
 
 
 def test_a_small_pool_calibrates():

@@ -144,3 +144,19 @@ def test_command_line_settings_name_their_fault():
                       ("cal_vhalf_mV=low", "not a number"), ("neuromodulation=0.8", "its own option")):
         with pytest.raises(InputError, match=said):
             parse_settings([bad])
+
+
+def test_a_synaptic_drive_outlives_the_callers_time_vector():
+    import gc
+
+    from neuron import h
+
+    from neuromuscle.pool.excitability import clamp_run
+
+    with Motoneuron(motoneuron_parameters(0.0)) as mn:
+        kept = mn.play_synaptic_conductance(h.Vector([0.0]), [0.3])   # the time Vector is not kept by the caller
+        gc.collect()
+        spikes, _ = clamp_run(mn, [0.0, 500.0], [0.0, 0.0], 500.0, steps=True)
+        for vec in kept:
+            vec.play_remove()
+    assert spikes.size > 3
