@@ -92,6 +92,14 @@ class Evidence:
         return self.gain / self.excess if self.excess > 0 else 0.0
 
     @property
+    def window_excess_removed(self) -> float | None:
+        """The share of the error above noise the candidate removes on the held-out trials where it is judged (rule
+        R7's trials, whole): None without such a trial or without error above noise on them."""
+        trials = [self.per_trial[i] for i in self.window_trials if i in self.per_trial]
+        excess = sum(t["excess"] for t in trials)
+        return sum(t["gain"] for t in trials) / excess if excess > 0 else None
+
+    @property
     def share_of_baseline_excess(self) -> float | None:
         """The held-out gain as a share of the baseline's held-out error above noise (None when not known)."""
         return self.gain / self.baseline_excess if self.baseline_excess else None
@@ -136,7 +144,8 @@ class Evidence:
     def to_json(self) -> dict[str, Any]:
         return {"n_parameters": self.n_parameters, "gain_noise_variances": self.gain, "chi2_gain": self.chi2_gain,
                 "bic_penalty": self.bic_penalty, "bootstrap_p05": self.bootstrap_p05, "excess": self.excess,
-                "excess_removed": self.excess_removed, "nrmse_heldout_before": self.nrmse_before,
+                "excess_removed": self.excess_removed, "window_excess_removed": self.window_excess_removed,
+                "nrmse_heldout_before": self.nrmse_before,
                 "nrmse_heldout_after": self.nrmse_after, "structured_before": self.structured_before,
                 "identified": self.identified, "calibration_chi2_gain": self.calibration_chi2_gain,
                 "calibration_bic_penalty": self.calibration_penalty, "window": self.window_how,

@@ -21,8 +21,10 @@ from .evidence import STRUCTURE_RATIO, Evidence
 
 #: R0: a candidate that removes more than this share of the held-out excess passes R0 with no structured trial.
 MIN_EXCESS_REMOVED_DIFFUSE = 0.5
-#: R4: the least share of the held-out error above noise a named cause removes.
+#: R4: the least share of the held-out error above noise a named cause removes ...
 MIN_EXCESS_REMOVED = 0.25
+#: ... or of the error above noise on the held-out trials where it is judged (rule R7's trials).
+MIN_WINDOW_EXCESS_REMOVED = 0.5
 #: R8: a cause named after others keeps at least this share of the held-out gain it has alone at the baseline.
 MIN_OWN_SHARE = 0.5
 #: R6: a model leaves structure at rest when at least max(REST_MIN_TRIALS, REST_MIN_FRACTION x trials with a
@@ -78,10 +80,13 @@ def _robust(e: Evidence) -> str | None:
 
 
 def _material(e: Evidence) -> str | None:
-    if e.excess_removed >= MIN_EXCESS_REMOVED:
+    window = e.window_excess_removed
+    if e.excess_removed >= MIN_EXCESS_REMOVED or (window is not None and window >= MIN_WINDOW_EXCESS_REMOVED):
         return None
+    where = "" if window is None else (f", and {100 * window:.0f} % < {100 * MIN_WINDOW_EXCESS_REMOVED:.0f} % of "
+                                       "it on the held-out trials where the cause is judged")
     return (f"removes {100 * e.excess_removed:.0f} % < {100 * MIN_EXCESS_REMOVED:.0f} % of the held-out error "
-            "above noise")
+            f"above noise{where}")
 
 
 def _nrmse_falls(e: Evidence) -> str | None:
@@ -140,8 +145,10 @@ RULES: tuple[Rule, ...] = (
          "p ln(N_eff)", _beyond_noise),
     Rule("R3", "robust", "the 5th percentile of a moving-block bootstrap of the held-out gain is above 0", _robust),
     Rule("R4", "material",
-         f"the candidate removes at least {100 * MIN_EXCESS_REMOVED:.0f} % of the held-out error above noise",
-         _material),
+         f"the candidate removes at least {100 * MIN_EXCESS_REMOVED:.0f} % of the held-out error above noise, or at "
+         f"least {100 * MIN_WINDOW_EXCESS_REMOVED:.0f} % of it on the held-out trials where the cause is judged "
+         "(rule R7's trials): a cause whose telling trials are few is material where it acts, beside error it "
+         "cannot explain elsewhere", _material),
     Rule("R5", "better where a physiologist looks", "the mean held-out NRMSE (eq 17) falls", _nrmse_falls),
     Rule("R6", "nothing left at rest",
          f"under the candidate's model, fewer than max({REST_MIN_TRIALS}, {100 * REST_MIN_FRACTION:.0f} %) of the "

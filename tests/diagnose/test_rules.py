@@ -59,6 +59,21 @@ def test_a_small_change_of_a_calibration_misfit_is_not_material():
     assert "R4" in ev.failed and not ev.passed
 
 
+@pytest.mark.parametrize("fix, material", [(0.9, True), (0.2, False)])
+def test_a_cause_of_one_telling_trial_is_material_where_it_is_judged(fix, material):
+    """R4: a large misfit the candidate cannot touch in one held-out trial, its effect in another (its only window
+    trial): removing most of the error there is material, though a small share of the whole."""
+    rng = np.random.default_rng(7)
+    ids, meas, before, after, noise = _case(rng, 1.0, 0.0, 0.0)
+    eff = 0.25 * np.linspace(0, 1, 1000)
+    before[1], after[1] = before[1] + eff, before[1] + (1 - fix) * eff
+    noise[1] = noise_level(before[1] - meas[1])
+    window = {1: WindowSamples(np.ones(1000, bool), "defined")}
+    ev = judge(ids, meas, before, after, noise, 2, ["x.k"], window=window)
+    assert ev.excess_removed < 0.25 and ev.window_excess_removed == pytest.approx(1 - (1 - fix) ** 2, abs=0.05)
+    assert ("R4" not in ev.failed) == material
+
+
 def test_something_to_explain():
     """R0: a model before at its noise floor on every held-out trial leaves nothing to explain when a candidate
     takes up less than half of the excess; one structured held-out trial is enough."""
