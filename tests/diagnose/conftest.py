@@ -86,3 +86,15 @@ def ar1(rng, n, sd, rho):
     for i in range(1, n):
         x[i] = rho * x[i - 1] + e[i]
     return x
+
+
+def evidence(failed=(), chi2_gain: float = 90.0):
+    """Evidence of a candidate with a held-out gain ``chi2_gain`` that failed the rules ``failed`` (bookkeeping
+    tests of the selection and the backward check)."""
+    from neuromuscle.diagnose.evidence import Evidence
+
+    ev = Evidence(n_parameters=2, gain=100.0, chi2_gain=chi2_gain, bic_penalty=10.0, bootstrap_p05=1.0, excess=200.0,
+                  nrmse_before=5.0, nrmse_after=4.0, structured_before=["a"], identified=["x.k"],
+                  calibration_chi2_gain=50.0, calibration_penalty=10.0)
+    ev.failed = {r: "failed" for r in failed}
+    return ev

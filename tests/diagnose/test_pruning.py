@@ -3,18 +3,10 @@ dropped.  The fits are faked; the sample diagnoses exercise them."""
 
 from types import SimpleNamespace
 
+from conftest import evidence
 from neuromuscle.diagnose import pruning, selection
-from neuromuscle.diagnose.evidence import Evidence
 from neuromuscle.diagnose.pruning import prune
 from neuromuscle.diagnose.selection import Candidate, Step
-
-
-def evidence(failed=(), chi2_gain: float = 90.0) -> Evidence:
-    ev = Evidence(n_parameters=2, gain=100.0, chi2_gain=chi2_gain, bic_penalty=10.0, bootstrap_p05=1.0, excess=200.0,
-                  nrmse_before=5.0, nrmse_after=4.0, structured_before=["a"], identified=["x.k"],
-                  calibration_chi2_gain=50.0, calibration_penalty=10.0)
-    ev.failed = {r: "failed" for r in failed}
-    return ev
 
 
 def fitted(extensions) -> SimpleNamespace:

@@ -5,19 +5,11 @@ from types import SimpleNamespace
 
 import pytest
 
-from neuromuscle.diagnose.evidence import Evidence
+from conftest import evidence
 from neuromuscle.diagnose import selection
 from neuromuscle.diagnose.selection import (JOINT_IF_PASSES, Candidate, Joint, Step, alone_at_baseline, at_base,
                                            fit_alone, joint, pair_for)
 from neuromuscle.parameters import load_parameters
-
-
-def evidence(failed=(), chi2_gain: float = 90.0) -> Evidence:
-    ev = Evidence(n_parameters=2, gain=100.0, chi2_gain=chi2_gain, bic_penalty=10.0, bootstrap_p05=1.0, excess=200.0,
-                  nrmse_before=5.0, nrmse_after=4.0, structured_before=["a"], identified=["x.k"],
-                  calibration_chi2_gain=50.0, calibration_penalty=10.0)
-    ev.failed = {r: "failed" for r in failed}
-    return ev
 
 
 def model(name: str) -> SimpleNamespace:
