@@ -31,9 +31,9 @@ from .baseline import Baseline, calibrate_baseline, check_split_sizes, check_tri
 from .evidence import structured_trials
 from .models import FittedModel
 from .phases import TrialPhases, describe_all
+from .pruning import Check, prune
 from .residuals import Structure, explanatory_variables, residual_structure
 from .rules import REST_Z, enough_trials
-from .pruning import Check, prune
 from .selection import Context, Step, rest_trends, select
 from .split import Split, automatic_split, given_split
 
