@@ -208,7 +208,6 @@ def _evidence_row(ev: Evidence) -> dict[str, Any]:
             "score": round(ev.score, 1), "excess": round(ev.excess, 1),
             "excess_removed": round(ev.excess_removed, 3),
             "share_of_baseline_excess": _rounded(ev.share_of_baseline_excess, 3),
-            "own_share": _rounded(ev.own_share, 3),
             "window": ev.window_how, "window_chi2_gain": _rounded(ev.window_chi2_gain),
             "window_p05": _rounded(ev.window_p05),
             "quiet_chi2_gain": _rounded(ev.quiet_chi2_gain), "quiet_p05": _rounded(ev.quiet_p05),

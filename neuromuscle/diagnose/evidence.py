@@ -80,8 +80,6 @@ class Evidence:
     quiet_p05: float | None = None
     quiet_trials: tuple[str, ...] = ()
     baseline_excess: float | None = None
-    after_others: bool = False
-    alone_gain: float | None = None
     crossed: tuple[str, ...] = ()
     per_trial: dict[str, dict[str, float]] = field(default_factory=dict)
     failed: dict[str, str] = field(default_factory=dict)
@@ -103,15 +101,6 @@ class Evidence:
     def share_of_baseline_excess(self) -> float | None:
         """The held-out gain as a share of the baseline's held-out error above noise (None when not known)."""
         return self.gain / self.baseline_excess if self.baseline_excess else None
-
-    @property
-    def own_share(self) -> float | None:
-        """A cause named after others: its held-out gain after them over its gain alone at the baseline (both in
-        noise variances, under the same noise): the share of what it explains that the causes before it do not.
-        None at the first step, when the gain alone is not known, or when the cause gains nothing alone."""
-        if not self.after_others or self.alone_gain is None or self.alone_gain <= 0:
-            return None
-        return self.gain / self.alone_gain
 
     @property
     def passed(self) -> bool:
@@ -155,7 +144,6 @@ class Evidence:
                 "quiet_bic_penalty": self.quiet_penalty, "quiet_bootstrap_p05": self.quiet_p05,
                 "rest_trend_trials": self.rest_left, "trials_with_rest": self.n_rest, "score": self.score,
                 "baseline_excess": self.baseline_excess, "share_of_baseline_excess": self.share_of_baseline_excess,
-                "gain_alone_at_baseline": self.alone_gain, "own_share": self.own_share,
                 "cross_validated_trials": list(self.crossed),
                 "per_trial": self.per_trial, "passed": self.passed, "failed": self.failed}
 

@@ -7,10 +7,11 @@ next, then explains the rest and most of what the first one explained.  The firs
 final model, though it passed every rule against the model before it.  Each such cause is therefore judged
 again as if it were the last candidate proposed: the final model without it, refitted in every free parameter
 from the final values (:func:`without`), is its model before; the final model is its candidate model.  A cause
-that now fails a rule (most often rule R8: it keeps less than half the held-out gain it has alone at the
-baseline, the later causes explaining it) is dropped, the final model becomes the model without it, and the
-check runs again on every cause left, until each passes or one cause is left.  In the first round the causes
-named at the last naming step are not judged again: they were judged against that very model.
+that now fails a rule (the later causes explain what it explained) is dropped, the final model becomes the model
+without it, and the check runs again on every cause left, until each passes or one cause is left.  In the first
+round the causes named at the last naming step are not judged again: they were judged against that very model.
+So every cause the diagnosis names passes every rule against the final model without it: none is named for what
+the others explain.
 
 A cause the forward selection judged by cross-validation over trials (its telling trials all calibrate) is
 judged so here too, on the same split, both models fitted again there.  The trials' noise is estimated from the

@@ -25,8 +25,6 @@ MIN_EXCESS_REMOVED_DIFFUSE = 0.5
 MIN_EXCESS_REMOVED = 0.25
 #: ... or of the error above noise on the held-out trials where it is judged (rule R7's trials).
 MIN_WINDOW_EXCESS_REMOVED = 0.5
-#: R8: a cause named after others keeps at least this share of the held-out gain it has alone at the baseline.
-MIN_OWN_SHARE = 0.5
 #: R6: a model leaves structure at rest when at least max(REST_MIN_TRIALS, REST_MIN_FRACTION x trials with a
 #: rest window) trials trend at rest with |z| > REST_Z.
 REST_Z = 3.0
@@ -124,14 +122,6 @@ def _where_it_acts(e: Evidence) -> str | None:
             f"{e.window_penalty:.1f}, bootstrap 5th percentile {e.window_p05:.3g}")
 
 
-def _its_own(e: Evidence) -> str | None:
-    share = e.own_share
-    if share is None or share >= MIN_OWN_SHARE:
-        return None
-    return (f"named after other causes, it keeps {100 * share:.0f} % < {100 * MIN_OWN_SHARE:.0f} % of the held-out "
-            "gain it has alone at the baseline: most of what it explains, the causes before it explain")
-
-
 RULES: tuple[Rule, ...] = (
     Rule("R0", "something to explain",
          f"under the model before it, a held-out trial has a residual RMS above {STRUCTURE_RATIO:g} noise sd, or "
@@ -165,11 +155,6 @@ RULES: tuple[Rule, ...] = (
          f"removes more than {100 * MIN_EXCESS_REMOVED_DIFFUSE:.0f} % of the held-out error above noise (as R0 asks "
          "of a diffuse gain) and fits the telling trials no worse than the BIC penalty",
          _where_it_acts),
-    Rule("R8", "its own",
-         f"a cause named after others keeps at least {100 * MIN_OWN_SHARE:.0f} % of the held-out gain it has alone "
-         "at the baseline (its gain after them over its gain alone, under the same noise): an extension never "
-         "captures a cause of another form exactly, and a candidate that takes up what it leaves explains mostly "
-         "what the named cause explains, not a second cause", _its_own),
 )
 
 

@@ -16,9 +16,7 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    parameters it interacts with free (:func:`refitted`), from M and from M with those baseline parameters put back
    at the base set's values; a fit that ends above M's calibration chi-square (worse than the model it contains)
    is fitted again from M itself, the extension neutral (:func:`fit_candidate`);
-4. **evidence** (:mod:`.evidence`) on the held-out trials against M, and the rules (:mod:`.rules`); a candidate
-   that passes every other rule after causes were named is also set beside its own fit at the baseline
-   (:func:`alone_at_baseline`), and must keep most of the held-out gain it has there (rule R8).  Where the
+4. **evidence** (:mod:`.evidence`) on the held-out trials against M, and the rules (:mod:`.rules`).  Where the
    cause is judged (R7): its telling held-out trials, or the held-out samples where its fitted extension changes
    the force by more than ``ACTS_SD`` noise sd when no held-out trial is of its kind (in a pair of step 6) or, as
    a second way through rule R7, when the model before already fits every held-out telling trial to its noise
@@ -62,7 +60,7 @@ from ..model.extensions import LENGTH_PARAMETERS
 from ..parameters import ParameterSet
 from .baseline import FORCE_PARAMETERS
 from .causes import causes, isometric_level, telling_trials, where_defined
-from .evidence import Evidence, WindowSamples, chi2_drop, excess, gather, quiet_window
+from .evidence import Evidence, WindowSamples, excess, gather, quiet_window
 from .models import (CANDIDATE_TOLERANCE, MODEL_MAX_ITERATIONS, OPTIONS, FittedModel, extension_class,
                      extension_defaults, fit_model, simulate_all)
 from .phases import TrialPhases
@@ -184,7 +182,6 @@ class Context:
     pool: TrialPool | None = None
     progress: bool = False
     baseline: FittedModel | None = None
-    alone: dict[str, FittedModel] = field(default_factory=dict)
     crossed: dict[tuple[str, ...], Context] = field(default_factory=dict)
     refits: dict[str, FittedModel] = field(default_factory=dict)
     candidates: dict[str, FittedModel] = field(default_factory=dict)
@@ -287,26 +284,12 @@ def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
                 _identified(model, name), calib, window, quiet=quiet)
     if ctx.baseline is not None:
         ev.baseline_excess = excess(ctx.heldout, ctx.measured, ctx.baseline.simulated, ctx.noise)
-    ev.after_others = bool(before.extensions)
     rest = rest_trends(ctx, model.simulated)
     have = {i: z for i, z in rest.items() if z is not None}
     ev.rest_left = [i for i, z in have.items() if abs(z) > REST_Z]
     ev.n_rest = len(have)
     apply_rules(ev)
-    if ev.after_others and not ev.failed and ctx.baseline is not None:
-        alone = alone_at_baseline(ctx, name)
-        ev.alone_gain = chi2_drop(ctx.heldout, ctx.measured, ctx.baseline.simulated, alone.simulated, ctx.noise)
-        apply_rules(ev)
     return ev
-
-
-def alone_at_baseline(ctx: Context, name: str) -> FittedModel:
-    """The baseline plus candidate ``name`` alone (rule R8's reference): its fit at the first step when it was
-    fitted there, else fitted now as it would have been (module docstring, step 3)."""
-    if name not in ctx.alone:
-        ctx.say(f"  fitting {ctx.baseline.name} + {name} (its gain alone, rule R8)")
-        ctx.alone[name] = fit_candidate(ctx, name, ctx.baseline, None)
-    return ctx.alone[name]
 
 
 def fit_candidate(ctx: Context, name: str, before: FittedModel, screened: Screen | None) -> FittedModel:
@@ -440,8 +423,6 @@ def fit_alone(ctx: Context, c: Candidate, before: FittedModel) -> None:
     """Fit candidate ``c`` on ``before`` (module docstring, step 3) and judge it (step 4), in place."""
     ctx.say(f"  fitting {before.name} + {c.name}")
     c.model = fit_candidate(ctx, c.name, before, c.screen)
-    if before is ctx.baseline:
-        ctx.alone[c.name] = c.model
     if c.telling_heldout or not c.telling_calibration:
         c.evidence = judge(ctx, c.name, before, c.model, c.telling_heldout)
     else:
@@ -452,13 +433,13 @@ def fit_alone(ctx: Context, c: Candidate, before: FittedModel) -> None:
 def crossed(ctx: Context, trials: Sequence[str]) -> Context:
     """The split with the calibration trials ``trials`` moved to the held-out side (module docstring, step 4):
     where a candidate whose telling trials all calibrate is judged.  One per set of trials, kept for the whole
-    selection (its refitted models with it, among them the baseline: rule R8's reference and the baseline's
-    excess in this split); it judges with the step's noise."""
+    selection (its refitted models with it, among them the baseline, for the baseline's excess in this
+    split); it judges with the step's noise."""
     key = tuple(trials)
     sub = ctx.crossed.get(key)
     if sub is None:
         sub = replace(ctx, calibration=tuple(i for i in ctx.calibration if i not in key),
-                      heldout=tuple(ctx.heldout) + key, baseline=None, alone={}, crossed={}, refits={},
+                      heldout=tuple(ctx.heldout) + key, baseline=None, crossed={}, refits={},
                       candidates={})
         ctx.crossed[key] = sub
     sub.noise = ctx.noise
@@ -487,20 +468,18 @@ def judge_crossed(ctx: Context, c: Candidate, before: FittedModel) -> Evidence:
     ctx.say(f"    {c.name}: every telling trial calibrates; judged with {', '.join(c.telling_calibration)} held "
             "out as well")
     before_cv = refit_on(sub, before)  # kept by name: the baseline's refit itself at the first step
-    model = candidate_on(sub, c, before_cv, before is ctx.baseline)
+    model = candidate_on(sub, c, before_cv)
     ev = judge(sub, c.name, before_cv, model, c.telling_calibration)
     ev.crossed = tuple(c.telling_calibration)
     return ev
 
 
-def candidate_on(sub: Context, c: Candidate, before_cv: FittedModel, at_baseline: bool = False) -> FittedModel:
+def candidate_on(sub: Context, c: Candidate, before_cv: FittedModel) -> FittedModel:
     """Candidate ``c`` fitted on the cross-validation split ``sub`` from ``before_cv`` (that model refitted there),
     from its usual starts; kept by model name for the whole selection."""
     name = f"{before_cv.name} + {c.name}"
     if name not in sub.candidates:
         sub.candidates[name] = fit_candidate(sub, c.name, before_cv, c.screen)
-    if at_baseline:
-        sub.alone[c.name] = sub.candidates[name]
     return sub.candidates[name]
 
 
@@ -557,7 +536,7 @@ def joint(ctx: Context, s: Step) -> Joint | None:
         where = crossed(ctx, key)
         ctx.say(f"    judged with {', '.join(key)} held out as well")
         before_cv = refit_on(where, s.before)
-        judged = {c.name: candidate_on(where, c, before_cv, s.before is ctx.baseline) for c in pair}
+        judged = {c.name: candidate_on(where, c, before_cv) for c in pair}
         together = fit_together(where, before_cv, judged)
     evidence = {}
     for c in pair:
