@@ -93,13 +93,13 @@ def test_report_md_shows_the_backward_check(null_files):
     doc = json.loads(json.dumps(doc))
     doc["steps"][0]["named"] = ["movement_induced_depression"]
     doc["backward_check"] = [{"name": "movement_induced_depression", "round": 1, "dropped": True,
-                              "against": ["force_depression_after_shortening"], "evidence": "fails R8", "model": {},
+                              "against": ["force_depression_after_shortening"], "evidence": "fails R4", "model": {},
                               "statistics": {}}]
     doc["causes"] = [{"name": "movement_induced_depression", "named": False, "dropped": True, "step": 1,
                       "parameters": {"mid.k": {"value": 0.5, "unit": "1", "ci95": [0.4, 0.6], "neutral": 0.0}}}]
     text = markdown(doc)
     assert "## Backward check" in text
-    assert ("| 1 | movement_induced_depression | baseline + force_depression_after_shortening | dropped | fails R8 |"
+    assert ("| 1 | movement_induced_depression | baseline + force_depression_after_shortening | dropped | fails R4 |"
             in text)
     assert "| movement_induced_depression: parameter |" in text
 

@@ -54,12 +54,12 @@ def world(monkeypatch, fails: dict[str, tuple[str, ...]], named: list[list[str]]
 
 
 def test_a_cause_the_later_one_explains_is_dropped(monkeypatch):
-    ctx, steps, fits, judged = world(monkeypatch, {("a", "baseline + b"): ("R8",)}, [["a"], ["b"]])
+    ctx, steps, fits, judged = world(monkeypatch, {("a", "baseline + b"): ("R4",)}, [["a"], ["b"]])
     p = prune(ctx, steps)
     assert judged == [("a", "baseline + b", "baseline + a + b", ("held_train",))]   # b was judged at the last step
     assert fits == [(("b",), ("twitch", "train", "long_train"))]
     assert p.named == ["b"] and p.dropped == ["a"] and p.final.name == "baseline + b"
-    assert p.checks[0].round == 1 and p.checks[0].evidence.failed == {"R8": "failed"}
+    assert p.checks[0].round == 1 and p.checks[0].evidence.failed == {"R4": "failed"}
 
 
 def test_causes_that_pass_against_the_others_are_kept(monkeypatch):
@@ -76,7 +76,7 @@ def test_one_cause_or_one_step_is_not_judged_again(monkeypatch):
 
 
 def test_after_a_drop_every_cause_left_is_judged_against_the_new_final_model(monkeypatch):
-    fails = {("a", "baseline + b + c"): ("R8",), ("b", "baseline + a + c"): ("R4",)}
+    fails = {("a", "baseline + b + c"): ("R4",), ("b", "baseline + a + c"): ("R4",)}
     ctx, steps, fits, judged = world(monkeypatch, fails, [["a"], ["b"], ["c"]])
     p = prune(ctx, steps)
     # round 1: a and b (c was named last); both fail, b (judged second: the lower gain here) is the worst
@@ -92,7 +92,7 @@ def test_a_cause_named_by_cross_validation_is_judged_on_that_split_again(monkeyp
     p = prune(ctx, steps)
     assert judged == [("fatigue", "baseline + b", "baseline + fatigue + b", ("held_train", "long_train"))]
     assert fits == [(("b",), ("twitch", "train", "long_train")),   # the final model without fatigue
-                    ((), ("twitch", "train")),                     # the baseline without its trial (rule R8)
+                    ((), ("twitch", "train")),                     # the baseline without its trial (its excess there)
                     (("b",), ("twitch", "train")),                 # and both models again without it
                     (("fatigue", "b"), ("twitch", "train"))]
     assert p.checks[0].evidence.crossed == ("long_train",) and p.named == ["fatigue", "b"]

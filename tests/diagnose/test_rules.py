@@ -181,23 +181,6 @@ def test_trends_at_rest_in_enough_trials_fail_r6():
     assert enough_trials(3, 10) and not enough_trials(3, 16) and enough_trials(4, 16) and not enough_trials(0, 0)
 
 
-def test_a_cause_named_after_others_must_keep_most_of_its_gain_alone():
-    """R8: at a later step a candidate must keep half the held-out gain it has alone at the baseline (what it
-    explains, the causes before it do not); at the first step, and when it gains nothing alone, R8 does not apply."""
-    ids, meas, before, after, noise = _case(np.random.default_rng(1), 0.0, 0.3, 0.8)
-    ev = gather(ids, meas, before, after, noise, 2, ["x.k"], NO_CAL, _everywhere(ids))
-    ev.alone_gain = 5.0 * ev.gain
-    assert ev.own_share is None and "R8" not in apply_rules(ev).failed  # first step
-    ev.after_others = True
-    assert ev.own_share == pytest.approx(0.2)
-    assert "R8" in apply_rules(ev).failed and "20 %" in ev.failed["R8"]
-    ev.alone_gain = 1.5 * ev.gain
-    assert "R8" not in apply_rules(ev).failed
-    ev.alone_gain = -ev.gain
-    assert ev.own_share is None and "R8" not in apply_rules(ev).failed
-    assert ev.to_json()["gain_alone_at_baseline"] == -ev.gain
-
-
 def test_the_gain_of_the_rules_is_the_chi2_drop():
     ids, meas, before, after, noise = _case(np.random.default_rng(2), 0.1, 0.3, 0.6)
     ev = gather(ids, meas, before, after, noise, 2, [], NO_CAL, None)

@@ -7,7 +7,7 @@ import pytest
 
 from conftest import evidence
 from neuromuscle.diagnose import selection
-from neuromuscle.diagnose.selection import (JOINT_IF_PASSES, Candidate, Joint, Step, alone_at_baseline, at_base,
+from neuromuscle.diagnose.selection import (JOINT_IF_PASSES, Candidate, Joint, Step, at_base,
                                            fit_alone, joint, pair_for)
 from neuromuscle.parameters import load_parameters
 
@@ -45,7 +45,7 @@ def test_two_causes_named_together_are_each_judged_against_the_other_alone():
 def test_a_pair_that_fails_names_nothing():
     a, b = candidate("a", ["R3"]), candidate("b")
     pair = Joint(("a", "b"), model("M + a + b"), {"a": a.model, "b": b.model},
-                 {"a": evidence(), "b": evidence(["R8"])})
+                 {"a": evidence(), "b": evidence(["R4"])})
     s = Step(1, model("M"), {"a": a, "b": b}, joint=pair)
     assert not pair.passed and s.named_causes == [] and s.after.name == "M"
 
@@ -97,33 +97,6 @@ def test_the_second_of_a_pair_is_the_best_measured_gain_then_the_best_screen():
     assert [c.name for c in pair_for(s)] == ["a", "b"]
 
 
-def test_a_candidates_fit_at_the_baseline_is_kept_as_its_gain_alone(monkeypatch):
-    """Rule R8's reference: a candidate fitted at the first step is kept and reused, never refitted; one fitted only
-    later is fitted alone at the baseline once."""
-    fits = []
-
-    def fake_fit(extensions, baseline_free, starts, *args, **kwargs):
-        fits.append(tuple(extensions))
-        return SimpleNamespace(name=" + ".join(extensions), start="model before", extensions=tuple(extensions),
-                               cost=1.0)
-
-    monkeypatch.setattr(selection, "fit_model", fake_fit)
-    monkeypatch.setattr(selection, "calibration_chi2", lambda ctx, simulated: 2.0)
-    monkeypatch.setattr(selection, "judge", lambda ctx, name, before, model, held: evidence())
-    monkeypatch.setattr(selection, "_starts", lambda ctx, name, before, screened: {})
-    baseline = SimpleNamespace(name="baseline", extensions=(), simulated={})
-    ctx = SimpleNamespace(baseline=baseline, alone={}, baseline_free=(), calibration_trials=[], trials=[], noise={},
-                          pool=None, say=lambda text: None)
-    fit_alone(ctx, Candidate("staircase", ["cal"], ["held"]), baseline)
-    assert set(ctx.alone) == {"staircase"} and fits == [("staircase",)]
-    later = SimpleNamespace(name="baseline + staircase", extensions=("staircase",), simulated={})
-    fit_alone(ctx, Candidate("fatigue", ["cal"], ["held"]), later)
-    assert set(ctx.alone) == {"staircase"}  # fitted after a named cause: not its gain alone
-    assert alone_at_baseline(ctx, "staircase") is ctx.alone["staircase"] and len(fits) == 2
-    assert alone_at_baseline(ctx, "fatigue").extensions == ("fatigue",) and len(fits) == 3
-    assert alone_at_baseline(ctx, "fatigue") is ctx.alone["fatigue"] and len(fits) == 3
-
-
 @pytest.mark.parametrize("first_cost, refitted", [(90.0, False), (120.0, True)])
 def test_a_candidate_whose_fit_ends_above_the_model_it_contains_is_fitted_again_from_that_model(
         monkeypatch, first_cost, refitted):
@@ -139,7 +112,7 @@ def test_a_candidate_whose_fit_ends_above_the_model_it_contains_is_fitted_again_
     monkeypatch.setattr(selection, "fit_model", fake_fit)
     monkeypatch.setattr(selection, "calibration_chi2", lambda ctx, simulated: 100.0)
     before = SimpleNamespace(name="baseline", extensions=(), simulated={}, parameters=load_parameters("CT09"))
-    ctx = SimpleNamespace(baseline=before, alone={}, baseline_free=("P0",), calibration_trials=[], trials=[],
+    ctx = SimpleNamespace(baseline=before, baseline_free=("P0",), calibration_trials=[], trials=[],
                           noise={}, pool=None, base=load_parameters("CT09"), say=lambda text: None)
     got = selection.fit_candidate(ctx, "fatigue", before, None)
     assert len(fits) == (2 if refitted else 1)
@@ -242,7 +215,7 @@ def test_a_pair_with_a_cross_validated_candidate_is_judged_on_that_split(monkeyp
 
 def test_a_pair_of_candidates_cross_validated_on_different_trials_is_judged_with_both_held_out(monkeypatch):
     """Both of the pair cross-validated alone, on different trials: the split that holds out both sets gets its own
-    refitted baseline (rule R8's reference) and each candidate alone on it, kept as its fit at the baseline."""
+    refitted baseline and each candidate alone on it."""
     ctx, baseline, fits, judged = _pair_world(monkeypatch)
     fatigue, doublet = Candidate("fatigue", ["long_train"], []), Candidate("doublet_potentiation", ["train"], [])
     for c in (fatigue, doublet):
@@ -255,7 +228,7 @@ def test_a_pair_of_candidates_cross_validated_on_different_trials_is_judged_with
     assert fits == [(both, ("twitch", "train", "long_train")), ((), ("twitch",)), (("fatigue",), ("twitch",)),
                     (("doublet_potentiation",), ("twitch",)), (both, ("twitch",))]
     sub = ctx.crossed[("long_train", "train")]
-    assert sub.baseline is not None and set(sub.alone) == set(both)
+    assert sub.baseline is not None
     assert [(name, held) for name, _, _, _, held in judged] == [("fatigue", ("long_train",)),
                                                                ("doublet_potentiation", ("train",))]
     assert all(e.crossed == ("long_train", "train") for e in j.evidence.values())
