@@ -57,7 +57,7 @@ import numpy as np
 from ..fit.evaluate import TrialPool
 from ..measured import MeasuredData, Trial
 from ..model.extensions import LENGTH_PARAMETERS
-from ..parameters import ParameterSet
+from ..parameters import ParameterSet, registry
 from .baseline import FORCE_PARAMETERS
 from .causes import causes, isometric_level, telling_trials, where_defined
 from .evidence import Evidence, WindowSamples, excess, gather, quiet_window
@@ -327,11 +327,17 @@ def _starts(ctx: Context, name: str, before: FittedModel, screened: Screen | Non
 def at_base(ctx: Context, params: ParameterSet, names: Sequence[str]) -> ParameterSet:
     """``params`` with ``names`` put back at the base set's values.  When P0 is among them, the other force-valued
     parameters not among them (a0, c0: N) move with it, so the force-velocity curve keeps its shape relative to P0
-    (and eq 11's asymptote (2 + c0/P0) Fc stays above Fc)."""
+    (and eq 11's asymptote (2 + c0/P0) Fc stays above Fc); one that would leave its physiological range stops at
+    its edge (this is a start or a screening point, not a result: a fitted a0 near its upper bound, scaled up with
+    P0, would otherwise make the start inadmissible).  Moving c0 towards 0 keeps the asymptote above Fc."""
     back = {n: ctx.base[n] for n in names}
     if "P0" in back and float(params["P0"]) > 0:
         ratio = float(back["P0"]) / float(params["P0"])
-        back.update({n: float(params[n]) * ratio for n in FORCE_PARAMETERS if n not in back})
+        reg = registry()
+        for n in FORCE_PARAMETERS:
+            if n not in back:
+                spec = reg[reg.resolve(n)]
+                back[n] = min(max(float(params[n]) * ratio, spec.lower), spec.upper)
     return params.with_values(back)
 
 

@@ -83,6 +83,15 @@ def test_putting_p0_back_moves_the_force_valued_parameters_with_it():
     assert only["g1"] == p["g1"] and (only["P0"], only["c0"]) == (fitted["P0"], fitted["c0"])
 
 
+def test_a_force_valued_parameter_scaled_past_its_range_stops_at_its_edge():
+    """A fitted a0 near its upper bound (500 N), P0 put back 1.2x higher: the start stays admissible, a0 at 500 N,
+    c0 scaled as usual."""
+    p = load_parameters("CT09")
+    fitted = p.with_values({"P0": 400.0, "a0": 480.0, "c0": -100.0})
+    back = at_base(SimpleNamespace(base=p.with_values({"P0": 480.0})), fitted, ["P0"])
+    assert back["P0"] == 480.0 and back["a0"] == 500.0 and back["c0"] == pytest.approx(-120.0)
+
+
 def test_the_second_of_a_pair_is_the_best_measured_gain_then_the_best_screen():
     """A fitted held-out gain is a measurement, a screen a linearised ranking: the partner of the material
     candidate is the fitted one beyond noise (R2) with the best score, whatever the screens say."""
