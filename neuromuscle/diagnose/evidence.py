@@ -164,17 +164,6 @@ def block_bootstrap_p05(gains: Sequence[np.ndarray], noise: Sequence[Noise], rng
     return float(np.quantile(total, 0.05))
 
 
-def chi2_drop(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: Mapping[str, np.ndarray],
-              after: Mapping[str, np.ndarray], noise: Mapping[str, Noise]) -> float:
-    """The held-out chi-square drop (noise variances) from a model's forces ``before`` to ``after`` (N): the gain
-    of :func:`gather`."""
-    out = 0.0
-    for i in heldout:
-        e0, e1 = before[i] - measured[i], after[i] - measured[i]
-        out += float(e0 @ e0 - e1 @ e1) / noise[i].sd_N ** 2
-    return out
-
-
 def excess(heldout: Sequence[str], measured: Mapping[str, np.ndarray], simulated: Mapping[str, np.ndarray],
            noise: Mapping[str, Noise]) -> float:
     """The held-out error above noise of a model's forces (N), in noise variances: sum_k max(SSE_k - n_k s_k^2, 0)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from conftest import ar1
-from neuromuscle.diagnose.evidence import WindowSamples, chi2_drop, gather
+from neuromuscle.diagnose.evidence import WindowSamples, gather
 from neuromuscle.diagnose.residuals import noise_level
 from neuromuscle.diagnose.rules import RULES, apply_rules, enough_trials, rule
 
@@ -179,12 +179,6 @@ def test_trends_at_rest_in_enough_trials_fail_r6():
     ev.rest_left = ["a", "b", "c"]
     assert "R6" in apply_rules(ev).failed and "3 of 12 trials" in ev.failed["R6"]
     assert enough_trials(3, 10) and not enough_trials(3, 16) and enough_trials(4, 16) and not enough_trials(0, 0)
-
-
-def test_the_gain_of_the_rules_is_the_chi2_drop():
-    ids, meas, before, after, noise = _case(np.random.default_rng(2), 0.1, 0.3, 0.6)
-    ev = gather(ids, meas, before, after, noise, 2, [], NO_CAL, None)
-    assert chi2_drop(ids, meas, before, after, noise) == pytest.approx(ev.gain)
 
 
 def test_a_cause_whose_telling_trials_are_quiet_is_judged_where_it_acts():
