@@ -12,7 +12,10 @@ the calibration trials, converged or saying that it did not.
    every calibration trial, from the staged estimate and from the scaled base set; the better start continues to
    convergence.  Module 3 comes from what the file offers: its static points when it has them (those parameters
    then stay as the points measured them), otherwise the isometric phases of the trials at several lengths and
-   the ramps.
+   the ramps.  KSE and the force-velocity coefficients are fitted off the stimulated holds after movement, then
+   held while the rest is fitted on every sample (:func:`.models.fit_model`): in those holds the baseline's force is
+   isometric, and a history effect there would otherwise be taken up by a bent series element or force-velocity
+   curve.
 
 Moving trials, long trains and every other calibration trial take part in the joint fit: an effect in them may
 bend the baseline, and the candidate that explains it is fitted with the same baseline freedom
@@ -227,7 +230,7 @@ def calibrate_baseline(data: MeasuredData, phases: Mapping[str, TrialPhases], ca
     _say(progress, f"baseline: joint fit of {', '.join(free)} on {len(cal)} calibration trials, from the staged "
                    "estimate and the scaled base set")
     model = fit_model((), free, {"staged estimate": staged, f"scaled {base.name}": scaled}, cal, trials, noise,
-                      pool=pool, max_iterations=MODEL_MAX_ITERATIONS, intervals="hac")
+                      pool=pool, max_iterations=MODEL_MAX_ITERATIONS, intervals="hac", phases=phases)
     if not model.converged:
         notes.append(f"the joint fit did not converge: {model.message}")
     return Baseline(model, free, held, scaled, staged, stages, noise, notes)

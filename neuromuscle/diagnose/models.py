@@ -16,6 +16,8 @@ calibration trials and simulates every trial with the result:
   convergence.  A candidate starts from the model before it and from the same model with the baseline parameters
   it interacts with (``Extension.interacts``) put back at the base set's values: a baseline that bent Module 3 to
   absorb a length effect does not trap the length extension's fit in the bend;
+* **movement parameters where they act**: KSE and the force-velocity coefficients are never fitted on the
+  stimulated holds after movement whose history the model has no extension for (:func:`fit_model`);
 * **convergence** is stated, never assumed: a fit converges when scipy's relative tolerance is met or when its
   last three iterations together lowered the chi-square by less than ``COST_TOLERANCE``; one that stops at
   ``max_iterations`` says so (``converged``).
@@ -39,8 +41,9 @@ from ..errors import InputError, NumericalError
 from ..fit import FitProblem, FitResult, SimulationOptions, fit, trial_simulation
 from ..fit.evaluate import TrialPool
 from ..measured import Trial
-from ..model.extensions import Extension, registry
+from ..model.extensions import MOVEMENT_PARAMETERS, Extension, registry
 from ..parameters import ParameterSet
+from .phases import TrialPhases
 from .residuals import Noise
 
 DT_MS = 0.2
@@ -149,24 +152,85 @@ def simulate_all(params: ParameterSet, trials: Sequence[Trial], extensions: tupl
 
 def _one_fit(calibration: Sequence[Trial], start: ParameterSet, free: Mapping[str, tuple[float, float] | None],
              options: SimulationOptions, noise: Mapping[str, Noise], pool: TrialPool | None,
-             max_iterations: int, tolerance: float, intervals: str, final_jacobian: bool = True) -> FitResult:
+             max_iterations: int, tolerance: float, intervals: str, final_jacobian: bool = True,
+             sample_weights: Mapping[str, np.ndarray] | None = None) -> FitResult:
     cal = list(calibration)
-    problem = FitProblem(cal, start, dict(free), objective="sse", weights=chi2_weights(cal, noise), options=options)
+    per_sample = [sample_weights.get(t.trial_id) for t in cal] if sample_weights else None
+    problem = FitProblem(cal, start, dict(free), objective="sse", weights=chi2_weights(cal, noise), options=options,
+                         sample_weights=per_sample)
     return fit(problem, pool=pool, progress=False, max_iterations=max_iterations, fd="forward", tolerance=tolerance,
                intervals=intervals, final_jacobian=final_jacobian, cost_tolerance=COST_TOLERANCE)
+
+
+def unexplained_history(phases: Mapping[str, TrialPhases], ids: Sequence[str],
+                        extensions: Sequence[str]) -> dict[str, np.ndarray]:
+    """Masks of the samples of trials ``ids`` in the holds after an active stretch or shortening
+    (:meth:`.TrialPhases.hold_after`) whose history no extension of ``extensions`` describes (``Extension.after``),
+    by id; trials without such samples are left out."""
+    known = registry()
+    signs = [s for s in (+1, -1) if not any(known[e].after == s for e in extensions)]
+    out = {}
+    for i in ids:
+        m = np.zeros(phases[i].time_s.size, bool)
+        for s in signs:
+            m |= phases[i].hold_after(s)
+        if m.any():
+            out[i] = m
+    return out
 
 
 def fit_model(extensions: Sequence[str], baseline_free: Sequence[str], starts: Mapping[str, ParameterSet],
               calibration: Sequence[Trial], all_trials: Sequence[Trial], noise: Mapping[str, Noise], *,
               pool: TrialPool | None = None, max_iterations: int = MAX_ITERATIONS,
               options: SimulationOptions = OPTIONS, fixed_extensions: Sequence[str] = (),
-              tolerance: float = TOLERANCE, intervals: str = "hac+integrator") -> FittedModel:
+              tolerance: float = TOLERANCE, intervals: str = "hac+integrator",
+              phases: Mapping[str, TrialPhases] | None = None) -> FittedModel:
     """Fit the baseline plus ``extensions`` on ``calibration`` (module docstring): ``baseline_free`` and the
     parameters of every extension not in ``fixed_extensions`` free, from each of ``starts`` (name -> parameter
     set) for RACE_ITERATIONS, the best continued to ``max_iterations`` in all; every trial of ``all_trials``
     simulated with the result; tolerance: the fits' relative stopping tolerance; intervals: how the 95 %
     intervals are made (``neuromuscle.fit.intervals``; "hac" skips the half-step re-run where no interval is
-    used)."""
+    used).
+
+    Movement parameters where only they act: with ``phases`` (every calibration trial's, by id), when KSE or a
+    force-velocity coefficient is free and calibration trials hold stimulated holds after movement whose history
+    the model has no extension for (:func:`unexplained_history`), the fit runs in two stages: every parameter on
+    the samples outside those holds, then the movement parameters held there and the others refitted on every
+    sample.  In such a hold, from HOLD_DELAY_S after the ramp, the model's force is the isometric force at that
+    length: KSE and the force-velocity curve shape it only by a slow return they would need to be bent for, so a
+    model fitted there takes up force enhancement or depression in its movement parameters (a slow eccentric
+    return, a soft series element) and every history cause is then judged against that bend."""
+    exts = tuple(extensions)
+    history = unexplained_history(phases, [t.trial_id for t in calibration], exts) if phases is not None else {}
+    movement = tuple(n for n in baseline_free if n in MOVEMENT_PARAMETERS)
+    if not history or not movement:
+        return _fit_model(exts, baseline_free, starts, calibration, all_trials, noise, pool=pool,
+                          max_iterations=max_iterations, options=options, fixed_extensions=fixed_extensions,
+                          tolerance=tolerance, intervals=intervals)
+    t0 = time.perf_counter()
+    weights = {i: (~m).astype(float) for i, m in history.items()}
+    first = _fit_model(exts, baseline_free, starts, calibration, calibration, noise, pool=pool,
+                       max_iterations=max_iterations, options=options, fixed_extensions=fixed_extensions,
+                       tolerance=tolerance, intervals="hac", sample_weights=weights)
+    rest = tuple(n for n in baseline_free if n not in movement)
+    second = _fit_model(exts, rest, {"movement parameters off the holds after movement": first.parameters},
+                        calibration, all_trials, noise, pool=pool, max_iterations=max_iterations, options=options,
+                        fixed_extensions=fixed_extensions, tolerance=tolerance, intervals=intervals)
+    n = sum(int(m.sum()) for m in history.values())
+    message = (f"{', '.join(movement)} fitted without the {n} samples of holds after movement in "
+               f"{len(history)} trial(s): {first.message}; the rest on every sample: {second.message}")
+    return replace(second, free=tuple(dict.fromkeys(movement + second.free)), start=first.start,
+                   start_costs=first.start_costs, converged=first.converged and second.converged, message=message,
+                   wall_s=time.perf_counter() - t0)
+
+
+def _fit_model(extensions: Sequence[str], baseline_free: Sequence[str], starts: Mapping[str, ParameterSet],
+               calibration: Sequence[Trial], all_trials: Sequence[Trial], noise: Mapping[str, Noise], *,
+               pool: TrialPool | None, max_iterations: int, options: SimulationOptions,
+               fixed_extensions: Sequence[str], tolerance: float, intervals: str,
+               sample_weights: Mapping[str, np.ndarray] | None = None) -> FittedModel:
+    """One stage of :func:`fit_model`; sample_weights: per-sample weights in [0, 1] of some calibration trials, by
+    id (samples of weight 0 leave the objective)."""
     t0 = time.perf_counter()
     exts = tuple(extensions)
     free: dict[str, tuple[float, float] | None] = {n: None for n in baseline_free}
@@ -183,13 +247,14 @@ def fit_model(extensions: Sequence[str], baseline_free: Sequence[str], starts: M
         raise InputError("fit_model needs at least one start")
     if len(unique) == 1:
         how, start = next(iter(unique.items()))
-        res = _one_fit(calibration, start, free, opts, noise, pool, max_iterations, tolerance, intervals)
+        res = _one_fit(calibration, start, free, opts, noise, pool, max_iterations, tolerance, intervals,
+                       sample_weights=sample_weights)
         costs = {how: res.cost}
     else:
         # a start stopped by the race is continued by a fit of its own (or dropped): no Jacobian at its last point
         continued = max_iterations > RACE_ITERATIONS
         race = {how: _one_fit(calibration, p, free, opts, noise, pool, RACE_ITERATIONS, tolerance, "hac",
-                              final_jacobian=not continued)
+                              final_jacobian=not continued, sample_weights=sample_weights)
                 for how, p in unique.items()}
         costs = {how: r.cost for how, r in race.items()}
         how = min(costs, key=costs.get)
@@ -197,7 +262,7 @@ def fit_model(extensions: Sequence[str], baseline_free: Sequence[str], starts: M
         res = first
         if max_iterations > RACE_ITERATIONS and "max_iterations" in first.message:
             res = _one_fit(calibration, first.parameters, free, opts, noise, pool, max_iterations - RACE_ITERATIONS,
-                           tolerance, intervals)
+                           tolerance, intervals, sample_weights=sample_weights)
     converged = "max_iterations" not in res.message
     name = " + ".join(("baseline",) + exts)
     params = ParameterSet(name, res.parameters.values, f"fitted on the calibration trials from the {how} start")

@@ -63,7 +63,7 @@ def without(ctx: Context, model: FittedModel, name: str) -> FittedModel:
     exts = tuple(e for e in model.extensions if e != name)
     return fit_model(exts, ctx.baseline_free, {f"final model without {name}": model.parameters},
                      ctx.calibration_trials, ctx.trials, ctx.noise, pool=ctx.pool,
-                     max_iterations=MODEL_MAX_ITERATIONS, intervals="hac")
+                     max_iterations=MODEL_MAX_ITERATIONS, intervals="hac", phases=ctx.phases)
 
 
 def check(ctx: Context, steps: Sequence[Step], name: str, final: FittedModel, rnd: int) -> Check:

@@ -301,7 +301,7 @@ def fit_candidate(ctx: Context, name: str, before: FittedModel, screened: Screen
     ext = extension_class(name)
     fit = dict(extensions=before.extensions + (name,), baseline_free=refitted(ctx, name),
                calibration=ctx.calibration_trials, all_trials=ctx.trials, noise=ctx.noise, pool=ctx.pool,
-               fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE)
+               fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE, phases=ctx.phases)
     model = fit_model(starts=_starts(ctx, name, before, screened), **fit)
     floor = calibration_chi2(ctx, before.simulated)
     if model.cost <= floor:
@@ -461,7 +461,7 @@ def refit_on(sub: Context, model: FittedModel) -> FittedModel:
         sub.say(f"  fitting {model.name} again on {len(sub.calibration)} calibration trials")
         sub.refits[model.name] = fit_model(model.extensions, sub.baseline_free, {model.name: model.parameters},
                                            sub.calibration_trials, sub.trials, sub.noise, pool=sub.pool,
-                                           max_iterations=MODEL_MAX_ITERATIONS, intervals="hac")
+                                           max_iterations=MODEL_MAX_ITERATIONS, intervals="hac", phases=sub.phases)
     return sub.refits[model.name]
 
 
@@ -518,7 +518,8 @@ def fit_together(ctx: Context, before: FittedModel, alone: Mapping[str, FittedMo
     starts = {f"{a} model": ma.parameters.with_values(own[b]), f"{b} model": mb.parameters.with_values(own[a])}
     ctx.say(f"  fitting {before.name} + {a} + {b} together")
     return fit_model(before.extensions + (a, b), free, starts, ctx.calibration_trials, ctx.trials, ctx.noise,
-                     pool=ctx.pool, fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE)
+                     pool=ctx.pool, fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE,
+                     phases=ctx.phases)
 
 
 def joint(ctx: Context, s: Step) -> Joint | None:
@@ -561,7 +562,7 @@ def consolidate(ctx: Context, model: FittedModel) -> FittedModel:
     for the causes already named."""
     return fit_model(model.extensions, ctx.baseline_free, {"model with the named causes": model.parameters},
                      ctx.calibration_trials, ctx.trials, ctx.noise, pool=ctx.pool, max_iterations=MODEL_MAX_ITERATIONS,
-                     intervals="hac")
+                     intervals="hac", phases=ctx.phases)
 
 
 def select(ctx: Context, baseline: FittedModel, max_steps: int = MAX_STEPS, max_fits: int = MAX_FITS) -> list[Step]:

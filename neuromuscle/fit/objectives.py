@@ -37,7 +37,8 @@ def residual_scales(trials: Sequence[Trial], weights: Sequence[float], objective
     return scales
 
 
-def weighted_residuals(scales: Sequence[float], simulated: Sequence[np.ndarray],
+def weighted_residuals(scales: Sequence[float | np.ndarray], simulated: Sequence[np.ndarray],
                        trials: Sequence[Trial]) -> np.ndarray:
-    """One residual vector: each trial's simulated minus measured force (N) times its scale."""
+    """One residual vector: each trial's simulated minus measured force (N) times its scale (a number, or one
+    per sample)."""
     return np.concatenate([s * (f - t.force) for s, f, t in zip(scales, simulated, trials)])

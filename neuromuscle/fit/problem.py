@@ -34,13 +34,16 @@ class FitProblem:
 
     free: names, or a mapping name -> (lower, upper) or None (default bounds, see :mod:`.transforms`).
     start: optional start values of free parameters (default: the base set after ``frozen``).
+    sample_weights: optional per-trial arrays of per-sample weights in [0, 1] (None for a trial counts every
+    sample fully): a sample of weight 0 leaves the objective, e.g. a phase whose physics the model lacks.
     """
 
     def __init__(self, trials: Sequence[Trial], base: ParameterSet,
                  free: Sequence[str] | Mapping[str, tuple[float, float] | None], *,
                  weights: Sequence[float] | None = None, frozen: Mapping[str, float] | None = None,
                  start: Mapping[str, float] | None = None, objective: str = "sse",
-                 options: SimulationOptions = SimulationOptions()) -> None:
+                 options: SimulationOptions = SimulationOptions(),
+                 sample_weights: Sequence[np.ndarray | None] | None = None) -> None:
         if not isinstance(base, ParameterSet):
             raise InputError(f"base must be a ParameterSet (see load_parameters), got {type(base).__name__}")
         self.trials = list(trials)
@@ -112,7 +115,18 @@ class FitProblem:
                                  f"the trial carries no information on {what}; drop it from the fit")
             if t.n_samples < 2:
                 raise InputError(f"trial '{t.trial_id}' has fewer than 2 samples")
-        self._scale = residual_scales(self.trials, self.weights, objective)
+        self._scale: list[float | np.ndarray] = list(residual_scales(self.trials, self.weights, objective))
+        if sample_weights is not None:
+            if len(sample_weights) != len(self.trials):
+                raise InputError(f"sample_weights must give one entry per trial ({len(self.trials)}), got "
+                                 f"{len(sample_weights)}")
+            for k, (t, w) in enumerate(zip(self.trials, sample_weights)):
+                if w is None:
+                    continue
+                w = np.asarray(w, dtype=float)
+                if w.shape != (t.n_samples,) or not np.all((w >= 0) & (w <= 1)):
+                    raise InputError(f"trial '{t.trial_id}': sample weights must be {t.n_samples} values in [0, 1]")
+                self._scale[k] = self._scale[k] * np.sqrt(w)
 
     def _narrow_for_eq11(self) -> None:
         """Narrow the bounds of c0 (and of P0 when c0 is held) so that c0/P0 >= -C0_OVER_P0_MIN everywhere in

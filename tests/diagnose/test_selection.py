@@ -122,7 +122,7 @@ def test_a_candidate_whose_fit_ends_above_the_model_it_contains_is_fitted_again_
     monkeypatch.setattr(selection, "calibration_chi2", lambda ctx, simulated: 100.0)
     before = SimpleNamespace(name="baseline", extensions=(), simulated={}, parameters=load_parameters("CT09"))
     ctx = SimpleNamespace(baseline=before, baseline_free=("P0",), calibration_trials=[], trials=[],
-                          noise={}, pool=None, base=load_parameters("CT09"), say=lambda text: None)
+                          noise={}, pool=None, phases={}, base=load_parameters("CT09"), say=lambda text: None)
     got = selection.fit_candidate(ctx, "fatigue", before, None)
     assert len(fits) == (2 if refitted else 1)
     if refitted:

@@ -74,3 +74,22 @@ def test_one_of_p0_and_c0_free_keeps_the_asymptote(ct09, twitch_trials):
     assert c0_alone.bounds["c0"][0] >= -0.999 * base["P0"]
     with pytest.raises(InputError, match="eq 11 needs c0 > -P0"):
         FitProblem(twitch_trials[:1], base, ["P0"], start={"P0": 0.5 * base["P0"]}, options=OPTS)
+
+
+def test_a_sample_of_weight_zero_leaves_the_objective(ct09, twitch_trials):
+    """Per-sample weights scale each residual by their square root: samples of weight 0 contribute nothing, and a
+    trial without weights counts every sample."""
+    trials = twitch_trials[:2]
+    n = trials[0].n_samples
+    w = np.ones(n)
+    w[n // 2:] = 0.0
+    plain = FitProblem(trials, ct09, ["C3"], options=OPTS)
+    masked = FitProblem(trials, ct09, ["C3"], options=OPTS, sample_weights=[w, None])
+    sims = plain.simulate_trials(plain.to_z(plain.start))
+    r_plain, r_masked = plain.residuals_from(sims), masked.residuals_from(sims)
+    assert np.all(r_masked[n // 2:n] == 0.0) and np.any(r_plain[n // 2:n] != 0.0)
+    assert np.array_equal(r_masked[:n // 2], r_plain[:n // 2]) and np.array_equal(r_masked[n:], r_plain[n:])
+    with pytest.raises(InputError, match="one entry per trial"):
+        FitProblem(trials, ct09, ["C3"], sample_weights=[w])
+    with pytest.raises(InputError, match=f"trial '{trials[1].trial_id}': sample weights must be"):
+        FitProblem(trials, ct09, ["C3"], sample_weights=[w, -np.ones(trials[1].n_samples)])
