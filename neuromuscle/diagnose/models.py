@@ -211,7 +211,7 @@ def fit_model(extensions: Sequence[str], baseline_free: Sequence[str], starts: M
     weights = {i: (~m).astype(float) for i, m in history.items()}
     first = _fit_model(exts, baseline_free, starts, calibration, calibration, noise, pool=pool,
                        max_iterations=max_iterations, options=options, fixed_extensions=fixed_extensions,
-                       tolerance=tolerance, intervals="hac", sample_weights=weights)
+                       tolerance=tolerance, intervals="hac", sample_weights=weights, final_jacobian=False)
     rest = tuple(n for n in baseline_free if n not in movement)
     second = _fit_model(exts, rest, {"movement parameters off the holds after movement": first.parameters},
                         calibration, all_trials, noise, pool=pool, max_iterations=max_iterations, options=options,
@@ -228,9 +228,10 @@ def _fit_model(extensions: Sequence[str], baseline_free: Sequence[str], starts: 
                calibration: Sequence[Trial], all_trials: Sequence[Trial], noise: Mapping[str, Noise], *,
                pool: TrialPool | None, max_iterations: int, options: SimulationOptions,
                fixed_extensions: Sequence[str], tolerance: float, intervals: str,
-               sample_weights: Mapping[str, np.ndarray] | None = None) -> FittedModel:
+               sample_weights: Mapping[str, np.ndarray] | None = None, final_jacobian: bool = True) -> FittedModel:
     """One stage of :func:`fit_model`; sample_weights: per-sample weights in [0, 1] of some calibration trials, by
-    id (samples of weight 0 leave the objective)."""
+    id (samples of weight 0 leave the objective); final_jacobian: False skips the Jacobian at the end, whose only
+    use is the 95 % intervals (a first stage's are never read)."""
     t0 = time.perf_counter()
     exts = tuple(extensions)
     free: dict[str, tuple[float, float] | None] = {n: None for n in baseline_free}
@@ -248,7 +249,7 @@ def _fit_model(extensions: Sequence[str], baseline_free: Sequence[str], starts: 
     if len(unique) == 1:
         how, start = next(iter(unique.items()))
         res = _one_fit(calibration, start, free, opts, noise, pool, max_iterations, tolerance, intervals,
-                       sample_weights=sample_weights)
+                       final_jacobian=final_jacobian, sample_weights=sample_weights)
         costs = {how: res.cost}
     else:
         # a start stopped by the race is continued by a fit of its own (or dropped): no Jacobian at its last point
@@ -262,7 +263,7 @@ def _fit_model(extensions: Sequence[str], baseline_free: Sequence[str], starts: 
         res = first
         if max_iterations > RACE_ITERATIONS and "max_iterations" in first.message:
             res = _one_fit(calibration, first.parameters, free, opts, noise, pool, max_iterations - RACE_ITERATIONS,
-                           tolerance, intervals, sample_weights=sample_weights)
+                           tolerance, intervals, final_jacobian=final_jacobian, sample_weights=sample_weights)
     converged = "max_iterations" not in res.message
     name = " + ".join(("baseline",) + exts)
     params = ParameterSet(name, res.parameters.values, f"fitted on the calibration trials from the {how} start")
