@@ -129,7 +129,8 @@ RULES: tuple[Rule, ...] = (
          "noise", _something_to_explain),
     Rule("R1", "identified",
          "an effect parameter's 95 % interval excludes its neutral value, or the calibration chi-square falls by "
-         "more than the BIC penalty p ln(N_eff) (a likelihood ratio)", _identified),
+         "more than the BIC penalty p ln(N_eff) (a likelihood ratio); for a candidate judged by cross-validation "
+         "over trials, in its fit on every calibration trial", _identified),
     Rule("R2", "beyond noise and parameters",
          "the held-out chi-square gain, corrected for the noise's autocorrelation, exceeds the BIC penalty "
          "p ln(N_eff)", _beyond_noise),

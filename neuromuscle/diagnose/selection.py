@@ -26,7 +26,8 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    lengths, which the alternate split puts on the calibration side) is judged by **cross-validation over trials**
    (:func:`judge_crossed`): the model before and the candidate's model are fitted again without those trials,
    the candidate from its usual starts (nothing it learnt from them carries over), and both are judged by every
-   rule on the held-out trials and those trials together.  There, a cause defined
+   held-out rule on the held-out trials and those trials together; whether its effect is identified (rule R1) is
+   read from its fit on every calibration trial, which holds the trials that tell it.  There, a cause defined
    after a movement is measured from the isometric force at the hold's length, and one that acts through the
    movement from the isometric misfit at every sample's length (:func:`.causes.isometric_level`);
 5. the passing candidate with the best whole-file score is named; its model, refitted in every free parameter
@@ -273,15 +274,25 @@ def _windows(ctx: Context, name: str, before: FittedModel, model: FittedModel,
     return out, defined or None
 
 
+def calibration_side(ctx: Context, name: str, before: FittedModel, model: FittedModel
+                     ) -> tuple[list[str], tuple[float, float]]:
+    """Rule R1's numbers of candidate ``name`` (fitted on ``ctx``'s calibration trials: ``model``) against
+    ``before``: its effect parameters whose 95 % interval excludes their neutral value, and (calibration chi-square
+    gain, its BIC penalty) in noise variances."""
+    n_par = len(extension_class(name).parameters)
+    n_eff_cal = sum(ctx.noise[i].n_eff for i in ctx.calibration)
+    return _identified(model, name), (calibration_chi2(ctx, before.simulated) - model.cost,
+                                      n_par * math.log(max(n_eff_cal, 2.0)))
+
+
 def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
           telling_heldout: Sequence[str]) -> Evidence:
     """The evidence of candidate ``name`` (fitted: ``model``) against ``before``, with every rule applied."""
     n_par = len(extension_class(name).parameters)
-    n_eff_cal = sum(ctx.noise[i].n_eff for i in ctx.calibration)
-    calib = (calibration_chi2(ctx, before.simulated) - model.cost, n_par * math.log(max(n_eff_cal, 2.0)))
+    identified, calib = calibration_side(ctx, name, before, model)
     window, quiet = _windows(ctx, name, before, model, telling_heldout)
     ev = gather(ctx.heldout, ctx.measured, before.simulated, model.simulated, ctx.noise, n_par,
-                _identified(model, name), calib, window, quiet=quiet)
+                identified, calib, window, quiet=quiet)
     if ctx.baseline is not None:
         ev.baseline_excess = excess(ctx.heldout, ctx.measured, ctx.baseline.simulated, ctx.noise)
     rest = rest_trends(ctx, model.simulated)
@@ -477,7 +488,19 @@ def judge_crossed(ctx: Context, c: Candidate, before: FittedModel) -> Evidence:
     model = candidate_on(sub, c, before_cv)
     ev = judge(sub, c.name, before_cv, model, c.telling_calibration)
     ev.crossed = tuple(c.telling_calibration)
-    return ev
+    return identified_on_every_calibration_trial(ev, ctx, c.name, before, c.model)
+
+
+def identified_on_every_calibration_trial(ev: Evidence, ctx: Context, name: str, before: FittedModel,
+                                          model: FittedModel) -> Evidence:
+    """Evidence judged by cross-validation over trials, its calibration side (rule R1, and the score's calibration
+    term) taken from the candidate's fit on every calibration trial of ``ctx`` (``model``, against ``before``), the
+    rules applied again.  Whether an effect is identified is a question about the calibration data, and the
+    cross-validated fit lacks exactly the trials that tell it (a single post-tetanic series, a single long train):
+    asked there, a cause with one telling trial could never be identified.  The held-out rules keep the
+    cross-validated fits, which never saw the trials they are judged on."""
+    ev.identified, (ev.calibration_chi2_gain, ev.calibration_penalty) = calibration_side(ctx, name, before, model)
+    return apply_rules(ev)
 
 
 def candidate_on(sub: Context, c: Candidate, before_cv: FittedModel) -> FittedModel:
@@ -551,6 +574,8 @@ def joint(ctx: Context, s: Step) -> Joint | None:
         held = list(c.telling_heldout) + [t for t in c.telling_calibration if t in key]
         evidence[c.name] = judge(where, c.name, judged[other.name], together, held)
         evidence[c.name].crossed = key
+        if key:
+            identified_on_every_calibration_trial(evidence[c.name], ctx, c.name, alone[other.name], model)
         ctx.say(f"    {c.name} beside {other.name}: {evidence[c.name].text()}")
     return Joint(names, model, alone, evidence)
 

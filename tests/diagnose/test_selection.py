@@ -148,9 +148,15 @@ def test_a_candidate_whose_telling_trials_all_calibrate_is_judged_with_them_held
         judged.append((name, tuple(ctx.calibration), tuple(ctx.heldout), before.name, tuple(held)))
         return evidence()
 
+    def fake_calibration_side(ctx, name, before, model):
+        identifying.append((name, tuple(ctx.calibration), before.name, model.name))
+        return ["fatigue.k"], (500.0, 20.0)
+
+    identifying = []
     monkeypatch.setattr(selection, "fit_model", fake_fit)
     monkeypatch.setattr(selection, "calibration_chi2", lambda ctx, simulated: 2.0)
     monkeypatch.setattr(selection, "judge", fake_judge)
+    monkeypatch.setattr(selection, "calibration_side", fake_calibration_side)
     monkeypatch.setattr(selection, "_starts", lambda ctx, name, before, screened: {})
     baseline = SimpleNamespace(name="baseline", extensions=(), simulated={}, parameters=None)
     data = SimpleNamespace(trials={i: i for i in ("twitch", "train", "long_train", "held_train")})
@@ -163,12 +169,15 @@ def test_a_candidate_whose_telling_trials_all_calibrate_is_judged_with_them_held
                     (("fatigue",), ("twitch", "train"))]                  # the candidate from that refit
     assert judged == [("fatigue", ("twitch", "train"), ("held_train", "long_train"), "baseline", ("long_train",))]
     assert fatigue.evidence.crossed == ("long_train",) and fatigue.model.name == "baseline + fatigue"
+    # whether the effect is identified: from the candidate's fit on every calibration trial, against the model before
+    assert identifying == [("fatigue", ("twitch", "train", "long_train"), "baseline", "baseline + fatigue")]
+    assert (fatigue.evidence.identified, fatigue.evidence.calibration_chi2_gain) == (["fatigue.k"], 500.0)
     fit_alone(ctx, Candidate("relaxation_rate", ["long_train"], []), baseline)
     assert len(fits) == 5  # the refitted baseline is kept
     staircase = Candidate("staircase", ["train"], ["held_train"])
     fit_alone(ctx, staircase, baseline)
     assert len(fits) == 6 and judged[-1][1:3] == (("twitch", "train", "long_train"), ("held_train",))
-    assert staircase.evidence.crossed == ()
+    assert staircase.evidence.crossed == () and len(identifying) == 2  # judged on the file's split: as it was
 
 
 def _pair_world(monkeypatch):
@@ -189,6 +198,8 @@ def _pair_world(monkeypatch):
     monkeypatch.setattr(selection, "fit_model", fake_fit)
     monkeypatch.setattr(selection, "calibration_chi2", lambda ctx, simulated: 2.0)
     monkeypatch.setattr(selection, "judge", fake_judge)
+    monkeypatch.setattr(selection, "calibration_side", lambda ctx, name, before, model: (
+        [], (70.0 if len(ctx.calibration) == 3 else 0.0, 10.0)))  # the gain tells which split it was read on
     monkeypatch.setattr(selection, "_starts", lambda ctx, name, before, screened: {})
     baseline = SimpleNamespace(name="baseline", extensions=(), simulated={}, parameters=p)
     data = SimpleNamespace(trials={i: i for i in ("twitch", "train", "long_train", "held_train")})
@@ -220,6 +231,8 @@ def test_a_pair_with_a_cross_validated_candidate_is_judged_on_that_split(monkeyp
     assert j.model.name == "baseline + fatigue + staircase" and j.alone["staircase"] is staircase.model
     assert all(e.crossed == ("long_train",) for e in j.evidence.values())
     assert "long_train held out too" in j.evidence["staircase"].text()
+    # rule R1 of each: the pair fitted on every calibration trial (three), not on the split without long_train
+    assert all(e.calibration_chi2_gain == 70.0 for e in j.evidence.values())
 
 
 def test_a_pair_of_candidates_cross_validated_on_different_trials_is_judged_with_both_held_out(monkeypatch):
