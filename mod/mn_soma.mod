@@ -6,8 +6,12 @@ with the same equations (INCLUDEd from their .inc files), parameters and sources
 NONSPECIFIC current
   i = gnaf m^3 h (v - ena) + (gkdr n^4 + gkca cai/(cai + kd)) (v - ek) + gcan p^2 q (v - eca)
   cai' = -(10000) ica / (2 F depth) + (cainf - cai) / taur,   ica = gcan p^2 q (v - eca)
-where p, q are mn_can's m, h.  The submembrane calcium is this mechanism's own state (no ion is shared: only the
-AHP channel reads it), so NEURON runs one mechanism and no ion mechanism in the soma instead of five and three.
+plus the soma's leak gleak (v - eleak) and its share of the common synaptic conductance
+(gsyn + fcommon gcommon) (v - esyn) (mn_syn's current; gsyn set per instance, or gcommon, a pool's drive in uS
+shared by every cell), where p, q are mn_can's m, h.  The submembrane calcium is this mechanism's own state (no
+ion is shared: only the AHP channel reads it), so NEURON runs one mechanism and no ion mechanism in the soma
+instead of five and three, and no pas or mn_syn (the leak and the synaptic terms are 0 by default: a cell that
+inserts pas and mn_syn beside mn_soma gets the same currents from those).
 
 Fixed step: each gate advances as NEURON's cnexp would, g <- g + (1 - exp(-dt/tau(v))) (ginf(v) - g), with
 ginf(v) and 1 - exp(-dt/tau(v)) read from a table over v (-120 to 80 mV in 0.025 mV, linear interpolation,
@@ -23,6 +27,9 @@ NEURON {
     NONSPECIFIC_CURRENT i
     RANGE gnaf, gkdr, gcan, gkca, ena, ek, eca, ptau, qtau, kd, depth, taur, cainf, ica, inaf, ik
     RANGE pfac, qfac, cfac, dtseen, tstep
+    RANGE gleak, eleak, gsyn, esyn, fcommon
+    : the pool's common synaptic drive, one Vector.play for every cell (fcommon: this compartment's share)
+    GLOBAL gcommon
 }
 
 UNITS {
@@ -31,6 +38,7 @@ UNITS {
     (mM) = (milli/liter)
     (um) = (micron)
     (S) = (siemens)
+    (uS) = (microsiemens)
     FARADAY = (faraday) (coulomb)
 }
 
@@ -48,6 +56,12 @@ PARAMETER {
     depth = 1 (um)
     taur = 40 (ms)
     cainf = 0 (mM)
+    gleak = 0 (S/cm2)
+    eleak = -70 (mV)
+    gsyn = 0 (S/cm2)
+    esyn = 0 (mV)
+    gcommon = 0 (uS)
+    fcommon = 0 (S/cm2/uS)
     variable_step = 0 (1)
 }
 
@@ -62,6 +76,7 @@ ASSIGNED {
     gk (S/cm2)
     gca (S/cm2)
     gtot (S/cm2)
+    gs (S/cm2)
     minf (1)
     mfac (1)
     hinf (1)
@@ -106,11 +121,12 @@ BREAKPOINT {
     gna = naf_g(gnaf, m, h)
     gk = kdr_g(gkdr, n) + kca_g(gkca, cai)
     gca = can_g(gcan, p, q)
-    gtot = gna + gk + gca
+    gs = gsyn + fcommon * gcommon
+    gtot = gna + gk + gca + gleak + gs
     inaf = gna * (v - ena)
     ik = gk * (v - ek)
     ica = gca * (v - eca)
-    i = inaf + ik + ica
+    i = inaf + ik + ica + ohmic(gleak, v, eleak) + ohmic(gs, v, esyn)
 }
 
 DERIVATIVE states {
@@ -189,4 +205,5 @@ INCLUDE "mn_kdr.inc"
 INCLUDE "mn_can.inc"
 INCLUDE "mn_cadyn.inc"
 INCLUDE "mn_kca.inc"
+INCLUDE "mn_ohmic.inc"
 INCLUDE "fixed_step.inc"

@@ -35,5 +35,7 @@ ASSIGNED {
 }
 
 BREAKPOINT {
-    i = g*(v - e)
+    i = ohmic(g, v, e)
 }
+
+INCLUDE "mn_ohmic.inc"

@@ -184,18 +184,20 @@ def run_loop(exe: Path, n: int, duration_ms: float, dt_ms: float, g_uS: float, o
 
 
 def run_neuron(n: int, duration_ms: float, dt_ms: float, g_uS: float) -> tuple[float, np.ndarray, np.ndarray]:
-    """The same N cells in NEURON (fused channels, the leak, a constant synaptic conductance g_uS on each cell's
-    membrane, the threshold): (ns per cell-step, spike counts, first spike times in ms or -1)."""
+    """The same N cells in NEURON (fused channels with the leak, a constant synaptic conductance g_uS on each
+    cell's membrane as a pool's common drive sets it, the threshold): (ns per cell-step, spike counts, first spike
+    times in ms or -1)."""
     from neuron import h
 
-    from neuromuscle.pool.motoneuron import Motoneuron, motoneuron_parameters, play_synaptic_conductance
+    from neuromuscle.pool.motoneuron import COMMON_SYNAPTIC_MECHANISMS, Motoneuron, motoneuron_parameters
 
     h.load_file("stdrun.hoc")
     cells = [Motoneuron(motoneuron_parameters(i / max(n - 1, 1)), name=f"mn{i}") for i in range(n)]
-    kept, recs = [], []
-    times = h.Vector([0.0, duration_ms + 1.0])
+    recs = []
+    for mech in COMMON_SYNAPTIC_MECHANISMS:
+        setattr(h, f"gcommon_{mech}", g_uS)
     for cell in cells:
-        kept += play_synaptic_conductance(cell.sections, times, [g_uS, g_uS])
+        cell.share_common_synaptic(True)
         nc = h.NetCon(cell.spike_source(), None, sec=cell.soma)
         nc.threshold = -10.0
         tv = h.Vector()
@@ -210,6 +212,8 @@ def run_neuron(n: int, duration_ms: float, dt_ms: float, g_uS: float) -> tuple[f
     wall = time.perf_counter() - start
     counts = np.array([tv.size() for _, tv in recs])
     first = np.array([tv[0] if tv.size() else -1.0 for _, tv in recs])
+    for mech in COMMON_SYNAPTIC_MECHANISMS:
+        setattr(h, f"gcommon_{mech}", 0.0)
     return wall * 1e9 / (n * round(duration_ms / dt_ms)), counts, first
 
 
@@ -225,7 +229,7 @@ def main() -> None:
         folder = Path(tmp)
         load = os.getloadavg()[0]
         ns, counts, first = run_neuron(args.units, args.duration_ms, args.dt_ms, args.g_us)
-        rows.append(("NEURON (mn_soma, mn_pic, pas, mn_syn; no muscle)", ns, int(counts.sum()), load, "-"))
+        rows.append(("NEURON (mn_soma, mn_pic; no muscle)", ns, int(counts.sum()), load, "-"))
         for i, (label, flags) in enumerate(BUILDS):
             exe = compile_loop(folder, flags, f"loop{i}")
             load = os.getloadavg()[0]

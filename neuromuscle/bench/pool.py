@@ -39,8 +39,14 @@ RANKS = (1, 2)
 DRIVES = ("synaptic", "ramp", "poisson")
 SYNAPTIC_PEAK_US = 0.6
 
-#: The fused muscle's step (ms) when ``substeps`` is not given: every round(MUSCLE_STEP_MS / dt) membrane steps.
+#: The fused muscle's step (ms) when ``substeps`` is not given: every round(MUSCLE_STEP_MS / dt) membrane steps;
+#: the fused channels' PIC gate likewise.
 MUSCLE_STEP_MS = 0.2
+#: The membrane's step (ms) by default, under Crank-Nicolson (``secondorder`` 2): a quarter of backward Euler's pool
+#: force error at 0.025 ms against a fine reference, and a whole number of steps in the 1 ms force recording and the
+#: 0.2 ms muscle step (docs/validation/speed.md, the avenues table; from 0.04 ms Crank-Nicolson's spikes begin to
+#: fail to repolarise).
+DEFAULT_DT_MS = 1.0 / 30.0
 
 #: Keys every run's report carries (besides its configuration).
 RUN_KEYS = ("n_units", "ranks", "wall_s", "peak_rss_mib", "build_s", "sim_s", "s_per_unit_s", "spikes",
@@ -63,9 +69,11 @@ def run_one(n_units: int, ranks: int, duration_ms: float, dt_ms: float, drive: s
     if out is not None:
         args += ["--out", str(out), "--overwrite"]
     cmd = mpiexec_command(ranks, args) if ranks > 1 else [sys.executable, *args]
+    # one core a rank: numpy's BLAS threads, idle-spinning beside the ranks, would take cores from them
+    env = {**os.environ, **{k: os.environ.get(k, "1") for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")}}
     before = _load()
     start = time.perf_counter()
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout_s)
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout_s, env=env)
     if proc.returncode != 0:
         raise NeuromuscleError(f"pool of {n_units} units on {ranks} ranks failed (exit {proc.returncode}): "
                                f"{proc.stderr.strip()[-1500:]}")
@@ -99,10 +107,10 @@ def agreement(a: Any, b: Any) -> dict[str, Any]:
 
 
 def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANKS,
-               duration_ms: float = DEFAULT_DURATION_MS, dt_ms: float = 0.025, drive: str = "synaptic",
+               duration_ms: float = DEFAULT_DURATION_MS, dt_ms: float = DEFAULT_DT_MS, drive: str = "synaptic",
                full: bool = False, progress: bool = False, muscle: str = "fused", substeps: int | None = None,
                nthread: int = 1, channels: str = "fused", engines: Sequence[str] = ("neuron",),
-               cell_permute: int = 1, secondorder: int = 0) -> dict[str, Any]:
+               cell_permute: int = 1, secondorder: int = 2, pic_substeps: int | None = None) -> dict[str, Any]:
     """Run every (N, ranks) pair and return {"runs": [report, ...], "skipped": [...], settings}; a rank count
     that cannot run here (no MPI) is listed under "skipped" with the reason.  The drive is a common synaptic
     conductance rising to SYNAPTIC_PEAK_US over the run ("synaptic", the default: every unit recruited, about
@@ -110,9 +118,11 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
     each report), a common current ramp 0 -> 20 nA ("ramp": the same recruitment by a current, about 150 Hz) or
     independent Poisson input ("poisson").  ``muscle``: "modules" (KimCa, KimAct, KimForce) or "fused"
     (KimUnit); ``substeps`` k: the fused muscle advances every k membrane steps (None: every MUSCLE_STEP_MS,
-    k = round(0.2 ms / dt)); ``nthread``: NEURON threads per rank; ``channels``: the motoneurons' ("fused" or
-    "separate").  The defaults are the fast path (fused muscle every 0.2 ms, fused channels, dt 0.025 ms); the
-    errors of each against the reference are in docs/validation/speed.md.  ``engines``: "neuron", "coreneuron" or
+    k = round(0.2 ms / dt)); ``pic_substeps``: the fused channels' PIC gate likewise (None: as the muscle's, 1
+    with the separate channels); ``nthread``: NEURON threads per rank; ``channels``: the motoneurons' ("fused" or
+    "separate").  The defaults are the fast path: Crank-Nicolson at dt 1/30 ms (DEFAULT_DT_MS), the fused channels
+    with their PIC gate and the fused muscle every 0.2 ms; the errors of each against the reference are in
+    docs/validation/speed.md.  ``engines``: "neuron", "coreneuron" or
     both; with both, "agreement" compares their results of each (N, ranks); ``cell_permute``: CoreNEURON's
     layout (1: compartments interleaved, bit-identical to 0 and faster); ``secondorder``: NEURON's fixed-step
     scheme for the membrane (0 backward Euler, 2 Crank-Nicolson)."""
@@ -129,9 +139,11 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
         raise InputError(f"muscle must be 'modules' or 'fused', got {muscle!r}")
     if substeps is None:
         substeps = max(1, round(MUSCLE_STEP_MS / dt_ms)) if muscle == "fused" else 1
+    if pic_substeps is None:
+        pic_substeps = max(1, round(MUSCLE_STEP_MS / dt_ms)) if channels == "fused" else 1
     if cell_permute not in (0, 1) or isinstance(cell_permute, bool):
         raise InputError(f"cell_permute must be 0 or 1, got {cell_permute!r}")
-    for name, k in (("substeps", substeps), ("nthread", nthread)):
+    for name, k in (("substeps", substeps), ("nthread", nthread), ("pic_substeps", pic_substeps)):
         if isinstance(k, bool) or not isinstance(k, int) or k < 1:
             raise InputError(f"{name} must be an integer >= 1, got {k!r}")
     if substeps > 1 and muscle != "fused":
@@ -140,15 +152,18 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
         raise InputError(f"secondorder must be 0, 1 or 2, got {secondorder!r}")
     if channels not in CHANNELS:
         raise InputError(f"channels must be one of {', '.join(CHANNELS)}, got {channels!r}")
+    if pic_substeps > 1 and channels != "fused":
+        raise InputError(f"pic_substeps = {pic_substeps} needs channels='fused'")
     if not engines or any(e not in ENGINES for e in engines) or len(set(engines)) != len(engines):
         raise InputError(f"engines must be one or more of {', '.join(ENGINES)}, each once, got {list(engines)}")
     extra = {"ramp": ["--ramp-peak-na", "20"], "synaptic": ["--synaptic-peak-us", str(SYNAPTIC_PEAK_US)]}.get(drive, [])
     extra += ["--muscle", muscle, "--substeps", str(substeps), "--nthread", str(nthread), "--channels", channels,
-              "--cell-permute", str(cell_permute), "--secondorder", str(secondorder)]
+              "--cell-permute", str(cell_permute), "--secondorder", str(secondorder), "--pic-substeps",
+              str(pic_substeps)]
     out: dict[str, Any] = {"duration_ms": duration_ms, "dt_ms": dt_ms, "drive": drive, "full": full,
                            "muscle": muscle, "substeps": substeps, "nthread": nthread, "channels": channels,
                            "cpu_count": os.cpu_count(), "engines": list(engines), "cell_permute": cell_permute,
-                           "secondorder": secondorder,
+                           "secondorder": secondorder, "pic_substeps": pic_substeps,
                            "runs": [], "skipped": []}
     if len(engines) > 1:
         out["agreement"] = []
@@ -181,9 +196,11 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
 def table_lines(res: dict[str, Any]) -> list[str]:
     """The result as a Markdown table (N x ranks: wall, sim, build, memory, spikes, mean and largest rate,
     load)."""
-    lines = [f"pools, {res['duration_ms'] / 1000:g} s simulated at dt {res['dt_ms']} ms, {res['drive']} drive, muscle "
-             f"{res.get('muscle', 'modules')} (substeps {res.get('substeps', 1)}), motoneuron channels "
-             f"{res.get('channels', 'separate')}, {res.get('nthread', 1)} thread(s)",
+    scheme = {0: "backward Euler", 1: "Crank-Nicolson (secondorder 1)", 2: "Crank-Nicolson"}[res.get("secondorder", 0)]
+    lines = [f"pools, {res['duration_ms'] / 1000:g} s simulated at dt {res['dt_ms']} ms ({scheme}), {res['drive']} "
+             f"drive, muscle {res.get('muscle', 'modules')} (substeps {res.get('substeps', 1)}), motoneuron channels "
+             f"{res.get('channels', 'separate')} (PIC gate substeps {res.get('pic_substeps', 1)}), "
+             f"{res.get('nthread', 1)} thread(s)",
              "", "| N | ranks | engine | wall s | sim s | build s | s per unit-s | ns per cell-step per core | "
              "peak MiB (largest rank) | spikes | mean / largest rate Hz | load |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]

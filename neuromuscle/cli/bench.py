@@ -8,6 +8,7 @@ import argparse
 import json
 
 from ..errors import InputError
+from ..bench.pool import DEFAULT_DT_MS
 from ..pool.motoneuron import CHANNELS
 
 
@@ -98,7 +99,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                                                   "100,200,400,800)")
     bp.add_argument("--ranks", default="1,2", help="MPI rank counts, comma separated")
     bp.add_argument("--duration-ms", type=float, default=None, help="simulated time (default 1000; --full 5000)")
-    bp.add_argument("--dt-ms", type=float, default=0.025)
+    bp.add_argument("--dt-ms", type=float, default=DEFAULT_DT_MS,
+                    help="the membrane's fixed step (ms; default 1/30 under Crank-Nicolson, a quarter of backward "
+                         "Euler's pool force error at 0.025: docs/validation/speed.md)")
     bp.add_argument("--muscle", choices=("modules", "fused"), default="fused",
                     help="muscle model: modules (KimCa, KimAct, KimForce) or fused (KimUnit: the same numbers)")
     bp.add_argument("--substeps", type=int, default=None,
@@ -106,6 +109,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                          "every 0.2 ms, k = round(0.2 / dt), and 1 with --muscle modules)")
     bp.add_argument("--channels", choices=CHANNELS, default="fused",
                     help="motoneuron channels: fused (mn_soma + mn_pic, tabulated) or separate (the reference)")
+    bp.add_argument("--pic-substeps", type=int, default=None,
+                    help="with --channels fused: the PIC's gate (time constant 60 ms) advances every k membrane steps "
+                         "(default: as the muscle, every 0.2 ms)")
     bp.add_argument("--nthread", type=int, default=1, help="NEURON threads per rank")
     bp.add_argument("--drive", choices=("synaptic", "ramp", "poisson"), default="synaptic",
                     help="synaptic: common synaptic conductance to 0.6 uS (human rates: about 15 Hz mean, 20-35 Hz "
@@ -115,9 +121,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     help="engines, comma separated: neuron, coreneuron (both: their results compared)")
     bp.add_argument("--cell-permute", type=int, choices=(0, 1), default=1,
                     help="CoreNEURON's layout: 1 interleaves the cells' compartments (bit-identical, faster)")
-    bp.add_argument("--secondorder", type=int, choices=(0, 1, 2), default=0,
+    bp.add_argument("--secondorder", type=int, choices=(0, 1, 2), default=2,
                     help="NEURON's fixed-step scheme for the membrane: 0 backward Euler, 2 Crank-Nicolson (second "
-                         "order: its errors in docs/validation/speed.md)")
+                         "order, the default: its errors in docs/validation/speed.md)")
     bp.add_argument("--full", action="store_true", help="N = 100..800, 5 s (about half an hour on 2 cores)")
     bp.add_argument("--json", action="store_true")
     bp.set_defaults(func=run_pool)
@@ -143,7 +149,7 @@ def run_pool(args: argparse.Namespace) -> int:
     res = bench_pool(units, _int_list("--ranks", args.ranks), duration, args.dt_ms, args.drive, args.full,
                      progress=True, muscle=args.muscle, substeps=args.substeps, nthread=args.nthread,
                      channels=args.channels, engines=[e.strip() for e in args.engines.split(",") if e.strip()],
-                     cell_permute=args.cell_permute, secondorder=args.secondorder)
+                     cell_permute=args.cell_permute, secondorder=args.secondorder, pic_substeps=args.pic_substeps)
     print(json.dumps(res, indent=1) if args.json else "\n".join(table_lines(res)))
     return 0
 

@@ -65,9 +65,10 @@ class MotoneuronCell(Protocol):
 CellFactory = Callable[[UnitSpec, str], MotoneuronCell]
 
 
-def reduced_cells(channels: str = "fused") -> CellFactory:
-    """The built-in reduced cells, sized by each unit's motoneuron parameters (``Motoneuron``)."""
-    return lambda spec, name: Motoneuron(spec.motoneuron, name=name, channels=channels)
+def reduced_cells(channels: str = "fused", pic_substeps: int = 1) -> CellFactory:
+    """The built-in reduced cells, sized by each unit's motoneuron parameters (``Motoneuron``; ``pic_substeps``:
+    its PIC gate's step in membrane steps)."""
+    return lambda spec, name: Motoneuron(spec.motoneuron, name=name, channels=channels, pic_substeps=pic_substeps)
 
 
 #: The SWC section groups a mechanism may be inserted into ("all": every section).

@@ -57,7 +57,9 @@ class PoolDefinition:
     mapping for every unit (key "all").  ``motoneuron_overrides``: fields replaced in every motoneuron;
     ``motoneuron_scales``: factors on its size-dependent parameters (``motoneuron_parameters``).
     ``muscle_model``: "modules" (KimCa, KimAct, KimForce) or "fused" (KimUnit: the same numbers, faster; both
-    take extensions); ``muscle_substeps`` k (fused only): the muscle advances every k membrane steps.
+    take extensions); ``muscle_substeps`` k (fused only): the muscle advances every k membrane steps;
+    ``pic_substeps`` k (fused channels only): the dendritic PIC's gate (time constant 60 ms) advances every k
+    membrane steps, its current still every step.
     ``size_spacing``: how sizes spread over the ranks (``size_index``).  ``p0_N``: every unit's P0 (N, recruitment
     order) instead of the exponential spread.
     ``motoneuron_channels``: "fused" (mn_soma + mn_pic, tabulated rates) or "separate" (one mechanism per channel,
@@ -77,6 +79,7 @@ class PoolDefinition:
     muscle_model: str = "modules"
     muscle_substeps: int = 1
     motoneuron_channels: str = "fused"
+    pic_substeps: int = 1
     neuromodulation: float = HUMAN_NEUROMODULATION
     size_spacing: float = 1.0
     p0_N: tuple[float, ...] | None = None
@@ -106,15 +109,18 @@ class PoolDefinition:
         if self.muscle_model not in MUSCLE_MODELS:
             raise InputError(f"{where}: muscle_model must be one of {', '.join(MUSCLE_MODELS)}, got "
                              f"{self.muscle_model!r}")
-        k = self.muscle_substeps
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
-            raise InputError(f"{where}: muscle_substeps must be an integer >= 1, got {k!r}")
-        if k > 1 and self.muscle_model != "fused":
-            raise InputError(f"{where}: muscle_substeps = {k} needs muscle_model='fused' (the three mechanisms "
-                             "advance every step)")
         if self.motoneuron_channels not in CHANNELS:
             raise InputError(f"{where}: motoneuron_channels must be one of {', '.join(CHANNELS)}, got "
                              f"{self.motoneuron_channels!r}")
+        for name, k, fused, needs in (
+                ("muscle_substeps", self.muscle_substeps, self.muscle_model == "fused",
+                 "muscle_model='fused' (the three mechanisms advance every step)"),
+                ("pic_substeps", self.pic_substeps, self.motoneuron_channels == "fused",
+                 "motoneuron_channels='fused' (mn_cal advances every step)")):
+            if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
+                raise InputError(f"{where}: {name} must be an integer >= 1, got {k!r}")
+            if k > 1 and not fused:
+                raise InputError(f"{where}: {name} = {k} needs {needs}")
         unit_type_of(0.0, tuple(self.type_fractions))  # checks the fractions
         p0_spread_N(int(self.n_units), self.smallest_p0_N, self.p0_range)
         motoneuron_parameters(0.0, scales=dict(self.motoneuron_scales))  # checks the scales

@@ -20,7 +20,7 @@ from ..errors import InputError
 from ..sim import Simulator
 from .cells import MotoneuronCell
 from .discharge_stats import DeltaF, delta_f
-from .motoneuron import Motoneuron, parse_settings
+from .motoneuron import Motoneuron, clear_synaptic_conductance, parse_settings
 
 _THRESHOLD_MV = -10.0
 
@@ -163,8 +163,7 @@ def synaptic_rates_hz(cell: MotoneuronCell, conductances_uS: Sequence[float], du
         sp, _ = clamp_run(cell, [0.0, duration_ms], [0.0, 0.0], duration_ms, steps=True)
         for vec in kept:
             vec.play_remove()
-        for sec in cell.sections:
-            sec.uninsert("mn_syn")
+        clear_synaptic_conductance(cell.sections)
         late = sp[sp >= skip_ms]
         out.append((late.size - 1) * 1000.0 / (late[-1] - late[0]) if late.size > 2 else 0.0)
     return np.array(out)

@@ -7,8 +7,9 @@
 
 Channels (mod/mn_*.mod, kinetics and sources in each header): soma mn_naf, mn_kdr, mn_can (N-type Ca),
 mn_cadyn (submembrane Ca), mn_kca (the AHP), leak (pas); dendrite mn_cal (L-type Ca PIC) and leak.  By default
-(``channels="fused"``) the soma's five run as one mechanism, mn_soma, and the PIC as mn_pic: the same equations
-with tabulated rates under the fixed step (exact under CVODE), a third faster in a pool;
+(``channels="fused"``) the soma's five and its leak run as one mechanism, mn_soma, and the PIC with the
+dendrite's leak as mn_pic, each also carrying its compartment's share of the common synaptic drive: the same
+equations with tabulated rates under the fixed step (exact under CVODE), a third faster in a pool;
 ``channels="separate"`` builds the reference (tests/pool/test_motoneuron_channels.py compares them).  The structure
 is that of Booth, Rinzel & Kiehn 1997 (two compartments, PIC in the dendrite); the geometry is an equivalent
 cylinder dendrite.
@@ -228,6 +229,10 @@ def parse_settings(items: Iterable[str]) -> dict[str, float]:
     return out
 
 
+#: The fused mechanisms that read a pool's common synaptic drive from their shared GLOBAL ``gcommon`` (uS).
+COMMON_SYNAPTIC_MECHANISMS = ("mn_soma", "mn_pic")
+
+
 def membrane_area_um2(sections: Iterable[Any]) -> float:
     """Total membrane area (um2) of ``sections``."""
     from neuron import h
@@ -236,13 +241,15 @@ def membrane_area_um2(sections: Iterable[Any]) -> float:
 
 
 def play_synaptic_conductance(sections: Sequence[Any], times_ms: Any, conductance_uS: Any,
-                              events: bool = True) -> list[Any]:
+                              events: bool = True, fused: Iterable[str] | None = None) -> list[Any]:
     """Excitatory synaptic conductance on a whole cell, reversal SYNAPTIC_REVERSAL_MV: ``conductance_uS`` (uS,
     the cell's total, numbers) from each of ``times_ms`` (a hoc Vector, ms) to the next, spread uniformly over
     the membrane of ``sections`` (mod/mn_syn.mod, which NEURON and CoreNEURON both run; one Vector.play a
     segment, its values set as events at those times, not interpolated every step).  events=False: a continuous
     play of the same steps (each value held to the next time: CoreNEURON plays no events into a density
-    mechanism).  Returns the Vectors to keep alive (``times_ms`` among them)."""
+    mechanism).  ``fused``: names of mechanisms that carry their compartment's synaptic conductance as ``gsyn``
+    (mn_soma, mn_pic: mod/mn_ohmic.inc); a segment holding one of them gets the drive there instead of an mn_syn.
+    Returns the Vectors to keep alive (``times_ms`` among them)."""
     from neuron import h
 
     density = 100.0 / membrane_area_um2(sections)   # S/cm2 per uS of the cell's total: 1e-6 S / (A um2 * 1e-8)
@@ -253,26 +260,54 @@ def play_synaptic_conductance(sections: Sequence[Any], times_ms: Any, conductanc
         times_ms = h.Vector(np.repeat(t, 2)[1:])
         values = np.repeat(values, 2)[:-1] if values.size == t.size else values
         kept.append(times_ms)
+    carriers = tuple(fused or ())
     for sec in sections:
-        sec.insert("mn_syn")
+        own = next((name for name in carriers if sec.has_membrane(name)), None)
+        if own is None:
+            sec.insert("mn_syn")
         for seg in sec:
-            seg.mn_syn.e, seg.mn_syn.g = SYNAPTIC_REVERSAL_MV, 0.0
+            mech = getattr(seg, own or "mn_syn")
+            if own is None:
+                mech.e, mech.g = SYNAPTIC_REVERSAL_MV, 0.0
+                ref = mech._ref_g
+            else:
+                mech.esyn, mech.gsyn = SYNAPTIC_REVERSAL_MV, 0.0
+                ref = mech._ref_gsyn
             g = h.Vector(values)
-            g.play(seg._ref_g_mn_syn, times_ms, 0 if events else 1)
+            g.play(ref, times_ms, 0 if events else 1)
             kept.append(g)
     return kept
 
 
-class Motoneuron:
-    """The cell in NEURON (soma + dendrite); ``destroy()`` or ``with`` removes it."""
+def clear_synaptic_conductance(sections: Iterable[Any]) -> None:
+    """Take the common synaptic drive off ``sections`` (after its plays are removed): mn_syn is removed and the
+    fused mechanisms' own ``gsyn`` set to 0."""
+    for sec in sections:
+        if sec.has_membrane("mn_syn"):
+            sec.uninsert("mn_syn")
+        for name in ("mn_soma", "mn_pic"):
+            if sec.has_membrane(name):
+                for seg in sec:
+                    getattr(seg, name).gsyn = 0.0
 
-    def __init__(self, params: MotoneuronParameters, name: str = "mn", channels: str = "fused") -> None:
+
+class Motoneuron:
+    """The cell in NEURON (soma + dendrite); ``destroy()`` or ``with`` removes it.  ``pic_substeps`` k (fused
+    channels, fixed step): the PIC's gate, whose time constant is 60 ms, advances every k membrane steps by one
+    step of k dt (its current is computed every step); 1 is the exact update of every step."""
+
+    def __init__(self, params: MotoneuronParameters, name: str = "mn", channels: str = "fused",
+                 pic_substeps: int = 1) -> None:
         from ..model.mechanisms import load_mechanisms
 
         if not isinstance(params, MotoneuronParameters):
             raise InputError(f"{name}: params must be MotoneuronParameters, got {type(params).__name__}")
         if channels not in CHANNELS:
             raise InputError(f"{name}: channels must be one of {', '.join(CHANNELS)}, got {channels!r}")
+        if isinstance(pic_substeps, bool) or not isinstance(pic_substeps, int) or pic_substeps < 1:
+            raise InputError(f"{name}: pic_substeps must be an integer >= 1, got {pic_substeps!r}")
+        if pic_substeps > 1 and channels != "fused":
+            raise InputError(f"{name}: pic_substeps = {pic_substeps} needs the fused channels")
         load_mechanisms()
         from neuron import h
 
@@ -284,23 +319,28 @@ class Motoneuron:
         self.dend.connect(self.soma(1.0))
         self.soma.L = self.soma.diam = p.soma_diam_um
         self.dend.L, self.dend.diam, self.dend.nseg = p.dend_length_um, p.dend_diam_um, p.dend_nseg
-        for sec, rm in ((self.soma, p.rm_soma_ohm_cm2), (self.dend, p.rm_dend_ohm_cm2)):
+        for sec in self.sections:
             sec.Ra, sec.cm = p.ra_ohm_cm, p.cm_uF_per_cm2
-            sec.insert("pas")
-            for seg in sec:
-                seg.pas.g, seg.pas.e = 1.0 / rm, p.e_leak_mV
         self.channels = channels
         if channels == "fused":
+            # the leak and the synaptic drive ride in the fused mechanisms (mn_ohmic.inc): no pas, no mn_syn
             self.soma.insert("mn_soma")
             m = self.soma(0.5).mn_soma
             m.gnaf, m.gkdr, m.gcan, m.gkca = (p.g_naf_S_per_cm2, p.g_kdr_S_per_cm2, p.g_can_S_per_cm2,
                                               p.g_kca_S_per_cm2)
             m.ena, m.ek, m.depth, m.taur, m.kd = p.ena_mV, p.ek_mV, p.ca_depth_um, p.ca_decay_ms, p.kca_kd_mM
+            m.gleak, m.eleak = 1.0 / p.rm_soma_ohm_cm2, p.e_leak_mV
             self.dend.insert("mn_pic")
             for s, g in zip(self.dend, p.pic_densities()):
                 s.mn_pic.gbar, s.mn_pic.vhalf, s.mn_pic.slope = g, p.cal_vhalf_mV, p.cal_slope_mV
+                s.mn_pic.gleak, s.mn_pic.eleak = 1.0 / p.rm_dend_ohm_cm2, p.e_leak_mV
+                s.mn_pic.substeps = pic_substeps
             self._insert_slow_adaptation()
             return
+        for sec, rm in ((self.soma, p.rm_soma_ohm_cm2), (self.dend, p.rm_dend_ohm_cm2)):
+            sec.insert("pas")
+            for seg in sec:
+                seg.pas.g, seg.pas.e = 1.0 / rm, p.e_leak_mV
         for mech in ("mn_naf", "mn_kdr", "mn_can", "mn_cadyn", "mn_kca"):
             self.soma.insert(mech)
         seg = self.soma(0.5)
@@ -341,9 +381,22 @@ class Motoneuron:
         return membrane_area_um2(self.sections)
 
     def play_synaptic_conductance(self, times_ms: Any, conductance_uS: Any, events: bool = True) -> list[Any]:
-        """The common synaptic drive on soma and dendrite (``play_synaptic_conductance``); returns the Vectors
-        to keep alive."""
-        return play_synaptic_conductance(self.sections, times_ms, conductance_uS, events)
+        """The common synaptic drive on soma and dendrite (``play_synaptic_conductance``; with the fused
+        channels into mn_soma's and mn_pic's own ``gsyn``); returns the Vectors to keep alive."""
+        fused = {"mn_soma", "mn_pic"} if self.channels == "fused" else None
+        return play_synaptic_conductance(self.sections, times_ms, conductance_uS, events, fused)
+
+    def share_common_synaptic(self, on: bool) -> None:
+        """Let the fused mechanisms' shared ``gcommon`` (uS, one play for a whole pool: ``Pool.drive_synaptic``)
+        drive this cell (``on``), spread uniformly over its membrane as ``play_synaptic_conductance`` spreads it,
+        or not.  Only the fused channels carry it."""
+        if self.channels != "fused":
+            raise InputError(f"{self.name}: only the fused channels share a common synaptic drive")
+        density = 100.0 / self.membrane_area_um2() if on else 0.0   # S/cm2 per uS of the cell's total
+        soma = self.soma(0.5).mn_soma
+        soma.fcommon, soma.esyn = density, SYNAPTIC_REVERSAL_MV
+        for seg in self.dend:
+            seg.mn_pic.fcommon, seg.mn_pic.esyn = density, SYNAPTIC_REVERSAL_MV
 
     def recordables(self) -> dict[str, str]:
         """The recordable variables (RECORDABLES) with their units."""
@@ -362,7 +415,7 @@ class Motoneuron:
             return seg._ref_v
         fused = self.channels == "fused"
         if variable == "i_pic":
-            return seg.mn_pic._ref_i if fused else seg._ref_ica   # mn_cal is the dendrite's only calcium current
+            return seg.mn_pic._ref_ipic if fused else seg._ref_ica   # mn_cal is the dendrite's only calcium current
         return seg.mn_soma._ref_cai if fused else seg._ref_cai
 
     def spike_source(self) -> Any:

@@ -45,6 +45,7 @@ from ..sim.simulator import ENGINES
 from ..validate import check_spike_times, finite_number, nonnegative_number, positive_number, seed_value
 from .definition import PoolDefinition, UnitSpec
 from .cells import CellFactory, MotoneuronCell, reduced_cells
+from .motoneuron import COMMON_SYNAPTIC_MECHANISMS, Motoneuron, clear_synaptic_conductance
 from .recording import PoolUnit, gather_recordings
 from .result import PoolResult
 
@@ -75,6 +76,8 @@ class Pool:
 
     #: The pool whose common current plays into CommonClamp's shared amplitude (one at a time per process).
     _common_owner: Callable[[], Pool | None] = _nobody
+    #: The pool whose common synaptic drive plays into the fused mechanisms' shared gcommon (one at a time).
+    _synaptic_owner: Callable[[], Pool | None] = _nobody
 
     def __init__(self, definition: PoolDefinition, *, length: LengthTrace | float = -8.0,
                  per_unit_length: bool = False, motoneurons: bool = True, per_unit_section: bool = False,
@@ -106,9 +109,12 @@ class Pool:
         self._lengths: list[Any] = []
         self.muscle: dict[int, MuscleUnit] = {}
         self.cells: dict[int, MotoneuronCell] = {}
-        make_cell = cells or reduced_cells(definition.motoneuron_channels)
+        make_cell = cells or reduced_cells(definition.motoneuron_channels, int(definition.pic_substeps))
         self._keep: list[Any] = []
         self._drive: str | None = None
+        self._synaptic: tuple[Any, np.ndarray] | None = None
+        self._synaptic_kind: str | None = None
+        self._synaptic_plays: list[Any] = []
         self._discharges: dict[int, np.ndarray] = {}
         self._unit_secs: list[Any] = []
         self._record: tuple[tuple[str, ...], tuple[int, ...]] | None = None
@@ -187,7 +193,7 @@ class Pool:
         between times_ms, ms; held in SYNAPTIC_STEP_MS steps), spread uniformly over its soma and dendrite,
         reversal 0 mV.  The same input on every cell recruits the small cells first (their membrane is smaller:
         Henneman's size principle), and the conductance saturates the rates as the membrane depolarises towards
-        the reversal (Powers & Heckman 2017).  The cell's play_synaptic_conductance does the wiring."""
+        the reversal (Powers & Heckman 2017).  Wired when the pool runs (``_attach_synaptic``)."""
         from neuron import h
 
         t = check_spike_times(times_ms, "synaptic drive times")
@@ -197,11 +203,56 @@ class Pool:
         self._set_drive("synaptic")
         grid = np.arange(t[0], t[-1] + SYNAPTIC_STEP_MS, SYNAPTIC_STEP_MS)
         steps = np.interp(grid + 0.5 * SYNAPTIC_STEP_MS, t, g)   # each step holds the drive at its middle
-        tv = h.Vector(grid)
-        self._keep.append(tv)
-        events = self.engine != "coreneuron"
-        for cell in self.cells.values():
-            self._keep.extend(cell.play_synaptic_conductance(tv, steps, events=events))
+        self._synaptic = (h.Vector(grid), steps)
+
+    def _attach_synaptic(self, sim: Simulator) -> None:
+        """Wire the common synaptic drive for this run: one Vector.play into the fused mechanisms' shared
+        ``gcommon`` (uS), each compartment's ``fcommon`` its share (the cheap way: a play costs NEURON a look every
+        step), or the cells' own ``play_synaptic_conductance``, one play a segment, where a shared value is not
+        possible (CoreNEURON plays into mechanism instances only; NEURON's local time step and threads; another
+        live pool's drive; cells other than the fused reduced ones).  Both give every cell the same conductance."""
+        from neuron import h
+
+        shared = not (sim.local_dt or sim.nthread > 1 or sim.engine == "coreneuron") and all(
+            isinstance(c, Motoneuron) and c.channels == "fused" for c in self.cells.values())
+        owner = Pool._synaptic_owner()
+        kind = "common" if shared and (owner is None or owner is self) else "cells"
+        if kind == self._synaptic_kind:
+            return
+        self._release_synaptic()
+        tv, steps = self._synaptic
+        if kind == "common":
+            for cell in self.cells.values():
+                cell.share_common_synaptic(True)   # type: ignore[attr-defined]
+            for mech in COMMON_SYNAPTIC_MECHANISMS:
+                vec = h.Vector(steps)
+                vec.play(getattr(h, f"_ref_gcommon_{mech}"), tv, 0)
+                self._synaptic_plays.append(vec)
+            Pool._synaptic_owner = weakref.ref(self)
+        else:
+            events = sim.engine != "coreneuron"
+            for cell in self.cells.values():
+                self._synaptic_plays.extend(cell.play_synaptic_conductance(tv, steps, events=events))
+        self._synaptic_kind = kind
+
+    def _release_synaptic(self) -> None:
+        """Take the common synaptic drive off the cells (before another wiring, and at destroy)."""
+        from neuron import h
+
+        for vec in self._synaptic_plays:
+            vec.play_remove()
+        self._synaptic_plays.clear()
+        if self._synaptic_kind == "common":
+            for cell in self.cells.values():
+                cell.share_common_synaptic(False)   # type: ignore[attr-defined]
+            for mech in COMMON_SYNAPTIC_MECHANISMS:
+                setattr(h, f"gcommon_{mech}", 0.0)
+            if Pool._synaptic_owner() is self:
+                Pool._synaptic_owner = _nobody
+        elif self._synaptic_kind == "cells":
+            for cell in self.cells.values():
+                clear_synaptic_conductance(cell.sections)
+        self._synaptic_kind = None
 
     def _attach_current(self, sim: Simulator) -> None:
         """Build the common current's clamps for this run: one CommonClamp per soma and one Vector.play into
@@ -342,6 +393,8 @@ class Pool:
             sim = replace(sim, v_init_mV=-70.0)
         if self._drive == "current":
             self._attach_current(sim)
+        elif self._drive == "synaptic":
+            self._attach_synaptic(sim)
         names, recorded = self._record or ((), ())
         # every step under CoreNEURON (and on several threads: see Recorder), at explicit sample times under CVODE
         stepwise = sim.method == "fixed" and (sim.nthread > 1 or sim.engine == "coreneuron")
@@ -406,6 +459,8 @@ class Pool:
             self._clamp_kind = None
             if Pool._common_owner() is self:
                 Pool._common_owner = _nobody
+        if self._drive == "synaptic":
+            self._release_synaptic()
         for u in self.muscle.values():
             u.destroy()
         for c in self.cells.values():

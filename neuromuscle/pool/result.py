@@ -76,6 +76,7 @@ class PoolResult:
                           twitch_speed=dict(definition.twitch_speed), muscle_model=definition.muscle_model,
                           muscle_substeps=int(definition.muscle_substeps),
                           motoneuron_channels=definition.motoneuron_channels,
+                          pic_substeps=int(getattr(definition, "pic_substeps", 1)),
                           length_mm=(length if isinstance(length, float) else getattr(length, "name", "trace")))
         return cls(t, f, [np.asarray(spikes[u.index], float) for u in specs], [u.row() for u in specs], drive,
                    ranks, wall_s, prov, dict(recordings or {}))

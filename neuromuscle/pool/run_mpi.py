@@ -67,6 +67,7 @@ class PoolRun:
     engine: str = "neuron"
     cell_permute: int = 1
     secondorder: int = 0
+    pic_substeps: int = 1
 
 
 def parser() -> argparse.ArgumentParser:
@@ -99,6 +100,8 @@ def parser() -> argparse.ArgumentParser:
                     help="modules: KimCa, KimAct, KimForce per unit; fused: one KimUnit per unit (same numbers)")
     ap.add_argument("--substeps", type=int, default=d.substeps,
                     help="with --muscle fused: the muscle advances every k membrane steps (step k dt)")
+    ap.add_argument("--pic-substeps", type=int, default=d.pic_substeps,
+                    help="with --channels fused: the PIC's gate (time constant 60 ms) advances every k membrane steps")
     ap.add_argument("--nthread", type=int, default=d.nthread, help="NEURON threads per rank")
     ap.add_argument("--channels", choices=CHANNELS, default=d.channels,
                     help="motoneuron channels: fused (mn_soma + mn_pic) or separate (one mechanism each)")
@@ -124,7 +127,7 @@ def _config(args: argparse.Namespace) -> PoolRun:
                    smallest_p0_N=args.smallest_p0_n, p0_range=args.p0_range, length_mm=args.length_mm,
                    record_dt_ms=args.record_dt_ms, muscle=args.muscle, substeps=args.substeps,
                    nthread=args.nthread, channels=args.channels, engine=args.engine,
-                   cell_permute=args.cell_permute, secondorder=args.secondorder)
+                   cell_permute=args.cell_permute, secondorder=args.secondorder, pic_substeps=args.pic_substeps)
 
 
 def peak_rss_mib() -> float:
@@ -146,7 +149,7 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
         raise InputError(f"{nhost} MPI ranks for a pool of {cfg.n_units} units: use at most one rank per unit")
     definition = PoolDefinition(cfg.n_units, load_parameters(cfg.params), smallest_p0_N=cfg.smallest_p0_N,
                                 p0_range=cfg.p0_range, muscle_model=cfg.muscle, muscle_substeps=cfg.substeps,
-                                motoneuron_channels=cfg.channels)
+                                motoneuron_channels=cfg.channels, pic_substeps=cfg.pic_substeps)
     sim = Simulator(method=cfg.method, dt_ms=cfg.dt_ms, atol=cfg.atol, v_init_mV=-70.0, max_wall_s=None,
                     local_dt=cfg.local_dt, nthread=cfg.nthread, label=f"pool of {cfg.n_units} units",
                     engine=cfg.engine, cell_permute=cfg.cell_permute, secondorder=cfg.secondorder)
@@ -214,6 +217,7 @@ def run_definition(definition: Any, drive: Any, sim: Any, duration_ms: float, nh
               "secondorder": sim.secondorder, "engine": sim.engine,
               "cell_permute": sim.cell_permute if sim.engine == "coreneuron" else None,
               "muscle": definition.muscle_model, "substeps": int(definition.muscle_substeps),
+              "pic_substeps": int(definition.pic_substeps),
               "nthread": sim.nthread, "channels": definition.motoneuron_channels, "local_dt": sim.local_dt,
               "drive": drive.kind, "startup_s": startup, "build_s": build, "sim_s": result.wall_s, "wall_s": wall,
               "s_per_unit_s": result.wall_s / unit_s, "spikes": spikes, "mean_rate_hz": spikes / unit_s,

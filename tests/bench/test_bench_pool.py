@@ -14,7 +14,7 @@ from neuromuscle.pool.mpi import mpi_available
 def test_bench_pool_json_keys_and_consistency(capsys):
     assert main(["bench", "pool", "--json", "--units", "3", "--ranks", "1,2", "--duration-ms", "60"]) == 0
     res = json.loads(capsys.readouterr().out)
-    assert res["duration_ms"] == 60.0 and res["dt_ms"] == 0.025
+    assert res["duration_ms"] == 60.0 and res["dt_ms"] == pytest.approx(1 / 30) and res["secondorder"] == 2
     ranks = [r["ranks"] for r in res["runs"]]
     assert ranks == ([1, 2] if mpi_available() else [1])
     assert [s["ranks"] for s in res["skipped"]] == ([] if mpi_available() else [2])
@@ -52,19 +52,24 @@ def test_bench_pool_muscle_keeps_its_cadence_at_a_longer_membrane_step(capsys):
 def test_bench_pool_defaults_are_the_fast_path_and_the_reference_is_a_flag(capsys):
     assert main(["bench", "pool", "--json", "--units", "3", "--ranks", "1", "--duration-ms", "60"]) == 0
     fast = json.loads(capsys.readouterr().out)
-    assert (fast["muscle"], fast["substeps"], fast["channels"]) == ("fused", 8, "fused")
+    assert (fast["muscle"], fast["substeps"], fast["channels"], fast["pic_substeps"]) == ("fused", 6, "fused", 6)
+    assert fast["runs"][0]["pic_substeps"] == 6 and "PIC gate substeps 6" in table_lines(fast)[0]
     assert main(["bench", "pool", "--json", "--units", "3", "--ranks", "1", "--duration-ms", "60", "--muscle",
-                 "modules", "--channels", "separate"]) == 0
+                 "modules", "--channels", "separate", "--dt-ms", "0.025", "--secondorder", "0"]) == 0
     ref = json.loads(capsys.readouterr().out)
     (r,) = ref["runs"]
-    assert (r["muscle"], r["substeps"], r["channels"]) == ("modules", 1, "separate") and r["spikes"] > 0
+    assert (r["muscle"], r["substeps"], r["channels"], r["pic_substeps"]) == ("modules", 1, "separate", 1)
+    assert r["spikes"] > 0 and "backward Euler" in table_lines(ref)[0]
+    with pytest.raises(InputError, match="pic_substeps = 6 needs channels='fused'"):
+        bench_pool([3], [1], 60.0, channels="separate", pic_substeps=6)
 
 
 @pytest.mark.parametrize("kw", [dict(units=[1], ranks=[2]), dict(units=[0]), dict(ranks=[]),
                                 dict(units=[2], drive="sine"), dict(units=[2], muscle="hill"),
                                 dict(units=[2], muscle="modules", substeps=2),
                                 dict(units=[2], muscle="fused", substeps=0), dict(units=[2], nthread=0),
-                                dict(units=[2], channels="hh"), dict(units=[2], cell_permute=2)])
+                                dict(units=[2], channels="hh"), dict(units=[2], cell_permute=2),
+                                dict(units=[2], pic_substeps=0)])
 def test_bench_pool_refuses_bad_configurations(kw):
     with pytest.raises(InputError):
         bench_pool(**kw)
@@ -76,7 +81,7 @@ def test_bench_pool_runs_both_engines_and_compares_them(capsys):
     res = json.loads(capsys.readouterr().out)
     assert [r["engine"] for r in res["runs"]] == ["neuron", "coreneuron"]
     for r in res["runs"]:
-        assert r["ns_per_cell_step_per_core"] == pytest.approx(r["sim_s"] / (3 * 60 / 0.025) * 1e9)
+        assert r["ns_per_cell_step_per_core"] == pytest.approx(r["sim_s"] / (3 * 60 / res["dt_ms"]) * 1e9)
     (a,) = res["agreement"]
     assert a["engines"] == ["neuron", "coreneuron"] and a["spikes"] == res["runs"][0]["spikes"] > 0
     assert a["spikes_identical"] and a["forces_identical"] and a["pool_force_max_diff_of_peak"] == 0.0

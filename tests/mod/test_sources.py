@@ -82,9 +82,11 @@ def test_the_fused_mechanisms_include_their_modules_equations():
     # fixed_step.inc: the step count every mechanism that advances its own states shares (secondorder)
     assert includes["kim_unit.mod"] == {"kim_m1_calcium.inc", "kim_m2_activation.inc", "kim_m3_force.inc",
                                        "fixed_step.inc"}
+    # mn_ohmic.inc: the leak and the synaptic conductance the fused cell carries instead of pas and mn_syn
     assert includes["mn_soma.mod"] == {"mn_naf.inc", "mn_kdr.inc", "mn_can.inc", "mn_cadyn.inc", "mn_kca.inc",
-                                       "fixed_step.inc"}
-    assert includes["mn_pic.mod"] == {"mn_cal.inc", "fixed_step.inc"}
+                                       "mn_ohmic.inc", "fixed_step.inc"}
+    assert includes["mn_pic.mod"] == {"mn_cal.inc", "mn_ohmic.inc", "fixed_step.inc"}
+    assert "mn_ohmic.inc" in includes["mn_syn.mod"]
     for advancing in ("kim_m1_calcium", "kim_m2_activation", "kim_m3_force", "HatzeExc", "HatzeMTC"):
         assert "fixed_step.inc" in includes[f"{advancing}.mod"], advancing
     for module in ("kim_m1_calcium", "kim_m2_activation", "kim_m3_force", "mn_naf", "mn_kdr", "mn_can", "mn_cadyn",

@@ -48,6 +48,46 @@ def test_common_clamp_and_per_soma_iclamps_give_the_same_pool(ct09):
     assert np.array_equal(common.unit_force_N, own.unit_force_N)
 
 
+def _synaptic_run(ct09):
+    from neuron import h
+
+    with Pool(PoolDefinition(4, ct09, smallest_p0_N=0.2, p0_range=20.0)) as pool:
+        pool.drive_synaptic([0.0, 200.0, 400.0], [0.0, 0.5, 0.3])
+        r = pool.run(400.0)
+        kind = pool._synaptic_kind
+        shares = [c.soma(0.5).mn_soma.fcommon for c in pool.cells.values()]
+        own = [seg.mn_pic.gsyn for c in pool.cells.values() for seg in c.dend]   # S/cm2 at the end
+        syn = any(sec.has_membrane("mn_syn") for c in pool.cells.values() for sec in c.sections)
+    return r, kind, shares, own, syn, h.gcommon_mn_soma
+
+
+def test_the_shared_synaptic_drive_and_per_segment_plays_give_the_same_pool(ct09):
+    """One play into the fused mechanisms' shared gcommon, each compartment's fcommon its share of the cell's
+    conductance, is the pool of one play a segment into the fused mechanisms' own gsyn, to the bit; a pool gives
+    the shared value back when it is destroyed; neither inserts mn_syn."""
+    import weakref
+
+    from neuromuscle.pool import pool as pool_module
+
+    shared, kind, shares, own, syn, after = _synaptic_run(ct09)
+    assert kind == "common" and all(x > 0 for x in shares) and not any(own) and not syn
+    assert after == 0.0 and pool_module.Pool._synaptic_owner() is None
+
+    class OtherPool:
+        pass
+
+    other = OtherPool()
+    pool_module.Pool._synaptic_owner = weakref.ref(other)  # as if another live pool held the shared drive
+    try:
+        cells, kind, shares, own, syn, _ = _synaptic_run(ct09)
+    finally:
+        pool_module.Pool._synaptic_owner = pool_module._nobody
+    assert kind == "cells" and all(x == 0 for x in shares) and all(x > 0 for x in own) and not syn
+    assert sum(s.size for s in shared.spikes_ms) > 20
+    assert all(np.array_equal(a, b) for a, b in zip(shared.spikes_ms, cells.spikes_ms))
+    assert np.array_equal(shared.unit_force_N, cells.unit_force_N)
+
+
 def test_ramp_recruits_in_size_order_and_saves(ct09, tmp_path):
     d = PoolDefinition(6, ct09, smallest_p0_N=0.2, p0_range=20.0)
     with Pool(d) as pool:
@@ -142,3 +182,8 @@ def test_size_spacing_and_explicit_p0(ct09):
                 dict(neuromodulation=-1.0)):
         with pytest.raises(InputError):
             PoolDefinition(3, ct09, **bad)
+
+
+def test_the_pic_gate_step_reaches_every_cell(ct09):
+    with Pool(PoolDefinition(3, ct09, pic_substeps=6)) as pool:
+        assert {seg.mn_pic.substeps for c in pool.cells.values() for seg in c.dend} == {6.0}

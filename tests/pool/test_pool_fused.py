@@ -46,7 +46,10 @@ def test_substeps_error_is_small_and_grows_with_k(ct09, modules_run):
 @pytest.mark.parametrize("bad, message", [(dict(muscle_model="hill"), "muscle_model"),
                                           (dict(muscle_substeps=4), "needs muscle_model='fused'"),
                                           (dict(muscle_model="fused", muscle_substeps=0), "muscle_substeps"),
-                                          (dict(motoneuron_channels="hh"), "motoneuron_channels")])
+                                          (dict(motoneuron_channels="hh"), "motoneuron_channels"),
+                                          (dict(pic_substeps=0), "pic_substeps"),
+                                          (dict(motoneuron_channels="separate", pic_substeps=6),
+                                           "needs motoneuron_channels='fused'")])
 def test_impossible_fused_definitions_are_refused(ct09, bad, message):
     with pytest.raises(InputError, match=message):
         PoolDefinition(3, ct09, **bad)
