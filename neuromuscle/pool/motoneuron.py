@@ -229,7 +229,8 @@ def parse_settings(items: Iterable[str]) -> dict[str, float]:
     return out
 
 
-#: The fused mechanisms that read a pool's common synaptic drive from their shared GLOBAL ``gcommon`` (uS).
+#: The fused mechanisms that carry their compartment's synaptic conductance (``gsyn``, and a pool's common drive
+#: from their shared GLOBAL ``gcommon``, uS).
 COMMON_SYNAPTIC_MECHANISMS = ("mn_soma", "mn_pic")
 
 
@@ -285,7 +286,7 @@ def clear_synaptic_conductance(sections: Iterable[Any]) -> None:
     for sec in sections:
         if sec.has_membrane("mn_syn"):
             sec.uninsert("mn_syn")
-        for name in ("mn_soma", "mn_pic"):
+        for name in COMMON_SYNAPTIC_MECHANISMS:
             if sec.has_membrane(name):
                 for seg in sec:
                     getattr(seg, name).gsyn = 0.0
@@ -383,7 +384,7 @@ class Motoneuron:
     def play_synaptic_conductance(self, times_ms: Any, conductance_uS: Any, events: bool = True) -> list[Any]:
         """The common synaptic drive on soma and dendrite (``play_synaptic_conductance``; with the fused
         channels into mn_soma's and mn_pic's own ``gsyn``); returns the Vectors to keep alive."""
-        fused = {"mn_soma", "mn_pic"} if self.channels == "fused" else None
+        fused = COMMON_SYNAPTIC_MECHANISMS if self.channels == "fused" else None
         return play_synaptic_conductance(self.sections, times_ms, conductance_uS, events, fused)
 
     def share_common_synaptic(self, on: bool) -> None:
