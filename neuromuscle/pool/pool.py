@@ -64,6 +64,16 @@ def _nobody() -> None:
     return None
 
 
+def _set_pic_substeps(cell: MotoneuronCell, k: int) -> None:
+    """The definition's pic_substeps on a cell of the user's: every mn_pic segment's gate every k steps;
+    InputError naming the cell when it has no mn_pic (nothing for the setting to act on)."""
+    segs = [seg for sec in cell.sections if sec.has_membrane("mn_pic") for seg in sec]
+    if not segs:
+        raise InputError(f"{cell.name}: pic_substeps = {k} needs mn_pic in the cell's sections; this cell has none")
+    for seg in segs:
+        seg.mn_pic.substeps = k
+
+
 def parallel_context() -> Any:
     """NEURON's ParallelContext (MPI if NEURON was started with it)."""
     from neuron import h
@@ -133,6 +143,8 @@ class Pool:
             pc.set_gid2node(u.index, self.rank)
             if motoneurons:
                 cell = make_cell(u, f"mn{u.index}")
+                if cells is not None and definition.pic_substeps > 1:
+                    _set_pic_substeps(cell, int(definition.pic_substeps))
                 self.cells[u.index] = cell
                 det = h.NetCon(cell.spike_source(), None, sec=cell.soma)
                 det.threshold = SPIKE_THRESHOLD_MV

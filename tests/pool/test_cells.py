@@ -172,3 +172,16 @@ def test_excitability_measures_any_cell_of_the_interface():
         assert not any(sec.has_membrane("mn_syn") for sec in cell.sections)
     finally:
         cell.destroy()
+
+
+def test_the_pic_gate_step_reaches_reconstructed_cells_and_is_refused_without_a_pic(ct09):
+    """PoolDefinition(pic_substeps=k) acts on every mn_pic segment of the user's cells; cells with no mn_pic are
+    refused by name rather than the setting being dropped."""
+    d = PoolDefinition(2, ct09, pic_substeps=6)
+    with Pool(d, cells=reconstructed_cells(SWC, MECHANISMS)) as pool:
+        gates = {seg.mn_pic.substeps for c in pool.cells.values() for sec in c.sections
+                 if sec.has_membrane("mn_pic") for seg in sec}
+        assert gates == {6.0}
+    no_pic = {k: v for k, v in MECHANISMS.items() if k != "dend"}
+    with pytest.raises(InputError, match="pic_substeps = 6 needs mn_pic"):
+        Pool(d, cells=reconstructed_cells(SWC, no_pic))
