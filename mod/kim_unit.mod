@@ -42,63 +42,12 @@ NEURON {
     THREADSAFE
     : 1 while NEURON integrates with CVODE (set at every finitialize by the package; from hoc: variable_step_<name> = 1)
     GLOBAL variable_step
-    : Module 1
-    RANGE K1, K2, K3, K4, K5i, K6i, K, Rmax, Umax, tau1, tau2, CS0, B0, T0, CaSR0
-    RANGE phi1, phi2, phi3, phi4, xopt, lencomp
-    RANGE R, U, K5, K6, phi, nspike
-    : Module 2
-    RANGE C1, C2, C3, C4, C5, alpha, alpha1, alpha2, alpha3, beta, gamma
-    RANGE movdep, lengdiv, onset, Afloor, atil0
-    RANGE A, alpha_t, Ainf, tauA, asw, ssw
-    : Module 3
-    RANGE P0, KSE, g1, g2, a0, b0, c0, d0, vmax, asym, lincurv, fcmin, F0, subtol, nsubmax
-    RANGE F, Fse, Fc, vce, nasym, xce, x0, nsub, nsplit
-    : the unit
-    RANGE rest, substeps, tstep, use_ports, unity, zero
-    : intermediates set and used within one instance's evaluation (per instance: CoreNEURON takes no GLOBAL
-    : assigned during a run)
-    RANGE a1, a2, a3, a4, a5, a6, a7, b1, b2, b3, b4, b5, b6, b7, kA, kAd, dvdF, aa, bb, dfdx, kse, al, xl
-    POINTER xm, vm, release_gain, uptake_gain, tauA_gain, C1_shift, force_offset, capacity_gain
 }
 
-UNITS {
-    (M) = (1/liter)
-}
-
-PARAMETER {
-    rest = 1 (1)
-    use_ports = 0 (1)
-    unity = 1 (1)
-    zero = 0 (1)
-    substeps = 1 (1)
-    variable_step = 0 (1)
-}
-
-ASSIGNED {
-    dt (ms)
-    tstep (ms)
-    xm (mm)
-    vm (mm/s)
-    : the substep counter, and whether the derivatives are zeroed for the fixed step
-    kcount (1)
-    zeroed (1)
-}
-
-INCLUDE "kim_m1_calcium.inc"
-INCLUDE "kim_m2_activation.inc"
-INCLUDE "kim_m3_force.inc"
-INCLUDE "fixed_step.inc"
+INCLUDE "kim_unit.inc"
 
 INITIAL {
-    xl = xm
-    ca_initial(atil, xl)
-    kcount = 0
-    zeroed = 0
-    act_initial(CaSPT, xl, vm)
-    al = A
-    read_capacity()
-    ce_initial()
-    tstep = t
+    unit_initial()
 }
 
 BREAKPOINT {
@@ -158,30 +107,4 @@ PROCEDURE rhs_all() {
     al = A
     read_capacity()
     ce_rhs()
-}
-
-PROCEDURE step_all(h (ms)) {
-    : one fixed step of length h of the three modules, states assigned here (h = dt: the three mechanisms'
-    : update exactly)
-    LOCAL w
-    w = vm
-    : Module 1: its increments (per ms) applied as METHOD euler applies KimCa's, then spent
-    ca_step(h, atil, xl)
-    CaSR = CaSR + h*a1
-    CaSRCS = CaSRCS + h*a2
-    CaSP = CaSP + h*a3
-    CaSPB = CaSPB + h*a4
-    CaSPT = CaSPT + h*a5
-    S2 = S2 + h*a6
-    S12 = S12 + h*a7
-    a1 = 0  a2 = 0  a3 = 0  a4 = 0  a5 = 0  a6 = 0  a7 = 0
-    : Module 2 with the new [CaSPT]
-    act_step(h, CaSPT, xl, w)
-    : Module 3 with the new A, then its report at the step's end
-    al = A
-    sw = ssw
-    read_capacity()
-    ce_fixed_step(h)
-    dxce = dxce + h*acs
-    ce_report()
 }

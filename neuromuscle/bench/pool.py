@@ -25,6 +25,7 @@ import numpy as np
 
 from ..errors import InputError, NeuromuscleError
 from ..pool.mpi import mpi_available, mpiexec_command
+from ..pool.definition import FUSED_MUSCLE_MODELS, MUSCLE_MODELS
 from ..pool.motoneuron import CHANNELS
 from ..sim.simulator import ENGINES
 
@@ -108,7 +109,7 @@ def agreement(a: Any, b: Any) -> dict[str, Any]:
 
 def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANKS,
                duration_ms: float = DEFAULT_DURATION_MS, dt_ms: float = DEFAULT_DT_MS, drive: str = "synaptic",
-               full: bool = False, progress: bool = False, muscle: str = "fused", substeps: int | None = None,
+               full: bool = False, progress: bool = False, muscle: str = "fused_fixed", substeps: int | None = None,
                nthread: int = 1, channels: str = "fused", engines: Sequence[str] = ("neuron",),
                cell_permute: int = 1, secondorder: int = 2, pic_substeps: int | None = None) -> dict[str, Any]:
     """Run every (N, ranks) pair and return {"runs": [report, ...], "skipped": [...], settings}; a rank count
@@ -116,12 +117,13 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
     conductance rising to SYNAPTIC_PEAK_US over the run ("synaptic", the default: every unit recruited, about
     15 Hz on average and 20-35 Hz at the end, as in human motor units; ``mean_rate_hz`` and ``max_rate_hz`` in
     each report), a common current ramp 0 -> 20 nA ("ramp": the same recruitment by a current, about 150 Hz) or
-    independent Poisson input ("poisson").  ``muscle``: "modules" (KimCa, KimAct, KimForce) or "fused"
-    (KimUnit); ``substeps`` k: the fused muscle advances every k membrane steps (None: every MUSCLE_STEP_MS,
-    k = round(0.2 ms / dt)); ``pic_substeps``: the fused channels' PIC gate likewise (None: as the muscle's, 1
-    with the separate channels); ``nthread``: NEURON threads per rank; ``channels``: the motoneurons' ("fused" or
-    "separate").  The defaults are the fast path: Crank-Nicolson at dt 1/30 ms (DEFAULT_DT_MS), the fused channels
-    with their PIC gate and the fused muscle every 0.2 ms; the errors of each against the reference are in
+    independent Poisson input ("poisson").  ``muscle``: "modules" (KimCa, KimAct, KimForce), "fused"
+    (KimUnit) or "fused_fixed" (KimUnitFixed, the default); ``substeps`` k: the fused muscle advances every k
+    membrane steps (None: every MUSCLE_STEP_MS, k = round(0.2 ms / dt)); ``pic_substeps``: the fused channels'
+    PIC gate likewise (None: as the muscle's, 1 with the separate channels); ``nthread``: NEURON threads per
+    rank; ``channels``: the motoneurons' ("fused" or "separate").  The defaults are the fast path:
+    Crank-Nicolson at dt 1/30 ms (DEFAULT_DT_MS), the fused channels with their PIC gate and the fused muscle
+    every 0.2 ms; the errors of each against the reference are in
     docs/validation/speed.md.  ``engines``: "neuron", "coreneuron" or
     both; with both, "agreement" compares their results of each (N, ranks); ``cell_permute``: CoreNEURON's
     layout (1: compartments interleaved, bit-identical to 0 and faster); ``secondorder``: NEURON's fixed-step
@@ -135,10 +137,10 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
         raise InputError(f"more ranks than units in {too_many}: use at most one rank per unit")
     if drive not in DRIVES:
         raise InputError(f"drive must be one of {', '.join(DRIVES)}, got {drive!r}")
-    if muscle not in ("modules", "fused"):
-        raise InputError(f"muscle must be 'modules' or 'fused', got {muscle!r}")
+    if muscle not in MUSCLE_MODELS:
+        raise InputError(f"muscle must be one of {', '.join(MUSCLE_MODELS)}, got {muscle!r}")
     if substeps is None:
-        substeps = max(1, round(MUSCLE_STEP_MS / dt_ms)) if muscle == "fused" else 1
+        substeps = max(1, round(MUSCLE_STEP_MS / dt_ms)) if muscle in FUSED_MUSCLE_MODELS else 1
     if pic_substeps is None:
         pic_substeps = max(1, round(MUSCLE_STEP_MS / dt_ms)) if channels == "fused" else 1
     if cell_permute not in (0, 1) or isinstance(cell_permute, bool):
@@ -146,8 +148,8 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
     for name, k in (("substeps", substeps), ("nthread", nthread), ("pic_substeps", pic_substeps)):
         if isinstance(k, bool) or not isinstance(k, int) or k < 1:
             raise InputError(f"{name} must be an integer >= 1, got {k!r}")
-    if substeps > 1 and muscle != "fused":
-        raise InputError(f"substeps = {substeps} needs muscle='fused'")
+    if substeps > 1 and muscle not in FUSED_MUSCLE_MODELS:
+        raise InputError(f"substeps = {substeps} needs muscle='fused' or 'fused_fixed'")
     if secondorder not in (0, 1, 2) or isinstance(secondorder, bool):
         raise InputError(f"secondorder must be 0, 1 or 2, got {secondorder!r}")
     if channels not in CHANNELS:

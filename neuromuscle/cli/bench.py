@@ -9,6 +9,7 @@ import json
 
 from ..errors import InputError
 from ..bench.pool import DEFAULT_DT_MS
+from ..pool.definition import MUSCLE_MODELS
 from ..pool.motoneuron import CHANNELS
 
 
@@ -102,10 +103,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bp.add_argument("--dt-ms", type=float, default=DEFAULT_DT_MS,
                     help="the membrane's fixed step (ms; default 1/30 under Crank-Nicolson, a quarter of backward "
                          "Euler's pool force error at 0.025: docs/validation/speed.md)")
-    bp.add_argument("--muscle", choices=("modules", "fused"), default="fused",
-                    help="muscle model: modules (KimCa, KimAct, KimForce) or fused (KimUnit: the same numbers)")
+    bp.add_argument("--muscle", choices=MUSCLE_MODELS, default="fused_fixed",
+                    help="muscle model: modules (KimCa, KimAct, KimForce), fused (KimUnit: the same numbers) or "
+                         "fused_fixed (KimUnitFixed: KimUnit's numbers at a lower cost, the fixed step only)")
     bp.add_argument("--substeps", type=int, default=None,
-                    help="with --muscle fused: the muscle advances every k membrane steps (step k dt; default: "
+                    help="with a fused muscle: the muscle advances every k membrane steps (step k dt; default: "
                          "every 0.2 ms, k = round(0.2 / dt), and 1 with --muscle modules)")
     bp.add_argument("--channels", choices=CHANNELS, default="fused",
                     help="motoneuron channels: fused (mn_soma + mn_pic, tabulated) or separate (the reference)")

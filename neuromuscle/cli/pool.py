@@ -55,7 +55,8 @@ def flag_table() -> list[tuple[str, list[tuple[str, str, dict[str, Any]]]]]:
             ("--axon-length-mm", "units.axon_length_mm", {**number, "help": "axon length (mm)"}),
             ("--neuromodulation", "units.neuromodulation",
              {**number, "help": "PIC strength (0: none; 1: the decerebrate cat's)"}),
-            ("--muscle", "units.muscle", {"choices": MUSCLE_MODELS, "help": "three Kim mechanisms, or fused"}),
+            ("--muscle", "units.muscle", {"choices": MUSCLE_MODELS, "help": "three Kim mechanisms, fused "
+                                          "(KimUnit) or fused_fixed (KimUnitFixed: the fixed step only)"}),
             ("--channels", "units.channels", {"choices": CHANNELS, "help": "motoneuron channel mechanisms"})]),
         ("drive (default: ramp to 0.6 uS)", [
             ("--drive", "drive.kind", {"choices": DRIVES, "help": (

@@ -93,6 +93,8 @@ class Component:
     states: ClassVar[tuple[State, ...]] = ()
     receives_spikes: ClassVar[bool] = False
     output: ClassVar[str | None] = None  # for a contraction model: the exposed variable that is "the force"
+    #: True for a mechanism that only NEURON's fixed step advances (the Simulator refuses it under CVODE)
+    fixed_step_only: ClassVar[bool] = False
 
     def __init__(self, **overrides: float) -> None:
         known = {p.name for p in self.parameters}

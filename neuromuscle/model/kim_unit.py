@@ -3,6 +3,7 @@
     unit = MuscleUnit(p, excitation=kim_fused())                         # the fused unit (no contraction slot)
     unit = MuscleUnit(p, excitation=kim_fused(substeps=4))               # muscle updated every 4th membrane step
     unit = MuscleUnit(p, excitation=kim_fused(), extensions={"fatigue": {}})
+    unit = MuscleUnit(p, excitation=kim_fused(fixed_step=True))          # KimUnitFixed: the fixed step only
 
 The parameters are KimCalcium's, KimActivation's and KimForce's, read from a parameter set under their own names
 (kim_m1.K1, kim_m2.C1, kim_m3.P0), so the same set drives either unit.  The fused mechanism has the three
@@ -10,6 +11,9 @@ mechanisms' modulation ports under their names, and stands for their slots ("ca"
 extensions target and read ("ca.release_gain", "force.dxce"): a unit with extensions gives the three mechanisms'
 numbers bit for bit.  Its own variables are recorded under its slot ("muscle.F", "muscle.CaSPT").  Units: ms, M,
 mm, N.
+
+KimUnitFixed (mod/kim_unit_fixed.mod) is KimUnit for NEURON's fixed step alone: the same numbers bit for bit at a
+lower cost per step (no METHOD euler loop, which only CVODE needs); the Simulator refuses it under CVODE.
 """
 
 from __future__ import annotations
@@ -91,7 +95,8 @@ class KimUnit(Component):
         self.obj.movdep = 1.0 if self.movement_depression else 0.0
         self.obj.lengdiv = 1.0 if self.lengthening_divisor else 0.0
         self.obj.substeps = float(self.substeps)
-        _set_atolscale(self.suffix, tuple((s.name, s.atolscale) for s in self.states))
+        if not self.fixed_step_only:
+            _set_atolscale(self.suffix, tuple((s.name, s.atolscale) for s in self.states))
 
     def set_movement_onset(self, onset_ms: float | None) -> None:
         """Start eq 19's movement clock at onset_ms (ms); None: the muscle never moves."""
@@ -103,6 +108,14 @@ class KimUnit(Component):
         return int(self.obj.nasym)
 
     input_warnings = KimForce.input_warnings
+
+
+class KimUnitFixed(KimUnit):
+    """KimUnit for NEURON's fixed step alone (and CoreNEURON): its numbers bit for bit, at a lower cost per step.
+    The Simulator refuses to run it under CVODE."""
+
+    suffix = "KimUnitFixed"
+    fixed_step_only = True
 
 
 @functools.cache
@@ -117,9 +130,11 @@ def _set_atolscale(suffix: str, states: tuple[tuple[str, float], ...]) -> None:
 
 
 def kim_fused(length_compensation: bool = True, movement_compensation: bool = False, substeps: int = 1,
-              **overrides: float) -> dict[str, Component]:
-    """Modules 1-3 as the one slot {"muscle": KimUnit} (give it as ``excitation``, with no ``contraction``)."""
-    return {"muscle": KimUnit(length_compensation, movement_compensation, substeps, **overrides)}
+              fixed_step: bool = False, **overrides: float) -> dict[str, Component]:
+    """Modules 1-3 as the one slot {"muscle": KimUnit} (give it as ``excitation``, with no ``contraction``);
+    ``fixed_step``: KimUnitFixed, the same numbers at a lower cost per step, for NEURON's fixed step only."""
+    kind = KimUnitFixed if fixed_step else KimUnit
+    return {"muscle": kind(length_compensation, movement_compensation, substeps, **overrides)}
 
 
-COMPONENTS: tuple[type[Component], ...] = (KimUnit,)
+COMPONENTS: tuple[type[Component], ...] = (KimUnit, KimUnitFixed)

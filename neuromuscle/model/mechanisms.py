@@ -31,7 +31,7 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
-from typing import Callable
+from typing import Any, Callable
 
 from ..errors import MechanismBuildError
 from . import integrator
@@ -46,13 +46,22 @@ from . import integrator
 COMPILE_FLAGS = "-O3 -fno-semantic-interposition"
 
 
-def required_mechanisms() -> tuple[str, ...]:
-    """POINT_PROCESS names the package needs: one per registered component (extensions included)."""
+def _components() -> tuple[Any, ...]:
+    """Every registered component class (extensions included)."""
     from . import combine, extensions, hatze, kim, kim_unit, length
 
-    comps = (*kim.COMPONENTS, *kim_unit.COMPONENTS, *hatze.COMPONENTS, length.MuscleLength, combine.PortCombine,
-             *extensions.mechanism_extensions())
-    return tuple(c.suffix for c in comps)
+    return (*kim.COMPONENTS, *kim_unit.COMPONENTS, *hatze.COMPONENTS, length.MuscleLength, combine.PortCombine,
+            *extensions.mechanism_extensions())
+
+
+def required_mechanisms() -> tuple[str, ...]:
+    """POINT_PROCESS names the package needs: one per registered component (extensions included)."""
+    return tuple(c.suffix for c in _components())
+
+
+def fixed_step_only_mechanisms() -> tuple[str, ...]:
+    """POINT_PROCESS names of the components that only NEURON's fixed step advances (KimUnitFixed)."""
+    return tuple(c.suffix for c in _components() if c.fixed_step_only)
 
 
 def mod_dir() -> Path:

@@ -27,7 +27,11 @@ def size_index(rank: float, spacing: float) -> float:
 
 
 #: Muscle models a pool can build: the three Kim mechanisms, or Modules 1-3 fused in one (KimUnit).
-MUSCLE_MODELS = ("modules", "fused")
+#: How each unit's muscle is modelled: the three Kim mechanisms, KimUnit, or KimUnitFixed (the fixed step only).
+MUSCLE_MODELS = ("modules", "fused", "fused_fixed")
+
+#: The muscle models with one mechanism per unit (they take muscle_substeps).
+FUSED_MUSCLE_MODELS = ("fused", "fused_fixed")
 
 
 @dataclass(frozen=True)
@@ -56,8 +60,9 @@ class PoolDefinition:
     decerebrate cat's; see ``motoneuron``).  ``extensions``: {unit index: {extension: {param: value}}} or one
     mapping for every unit (key "all").  ``motoneuron_overrides``: fields replaced in every motoneuron;
     ``motoneuron_scales``: factors on its size-dependent parameters (``motoneuron_parameters``).
-    ``muscle_model``: "modules" (KimCa, KimAct, KimForce) or "fused" (KimUnit: the same numbers, faster; both
-    take extensions); ``muscle_substeps`` k (fused only): the muscle advances every k membrane steps;
+    ``muscle_model``: "modules" (KimCa, KimAct, KimForce), "fused" (KimUnit: the same numbers, faster) or
+    "fused_fixed" (KimUnitFixed: KimUnit's numbers, faster still, NEURON's fixed step and CoreNEURON only; all
+    take extensions); ``muscle_substeps`` k (fused models only): the muscle advances every k membrane steps;
     ``pic_substeps`` k (fused channels only): the dendritic PIC's gate (time constant 60 ms) advances every k
     membrane steps, its current still every step.
     ``size_spacing``: how sizes spread over the ranks (``size_index``).  ``p0_N``: every unit's P0 (N, recruitment
@@ -113,8 +118,8 @@ class PoolDefinition:
             raise InputError(f"{where}: motoneuron_channels must be one of {', '.join(CHANNELS)}, got "
                              f"{self.motoneuron_channels!r}")
         for name, k, fused, needs in (
-                ("muscle_substeps", self.muscle_substeps, self.muscle_model == "fused",
-                 "muscle_model='fused' (the three mechanisms advance every step)"),
+                ("muscle_substeps", self.muscle_substeps, self.muscle_model in FUSED_MUSCLE_MODELS,
+                 "muscle_model='fused' or 'fused_fixed' (the three mechanisms advance every step)"),
                 ("pic_substeps", self.pic_substeps, self.motoneuron_channels == "fused",
                  "motoneuron_channels='fused' (mn_cal advances every step)")):
             if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:

@@ -43,7 +43,7 @@ from ..sim import Simulator
 from ..sim.recordings import Recorder, on_time_grid
 from ..sim.simulator import ENGINES
 from ..validate import check_spike_times, finite_number, nonnegative_number, positive_number, seed_value
-from .definition import PoolDefinition, UnitSpec
+from .definition import FUSED_MUSCLE_MODELS, PoolDefinition, UnitSpec
 from .cells import CellFactory, MotoneuronCell, reduced_cells
 from .motoneuron import COMMON_SYNAPTIC_MECHANISMS, Motoneuron, clear_synaptic_conductance
 from .recording import PoolUnit, gather_recordings
@@ -159,9 +159,10 @@ class Pool:
             pc.spike_record(-1, self._spike_t, self._spike_gid)
 
     def _excitation(self) -> Any:
-        """The muscle model of every unit: None (the three Kim mechanisms) or a fresh fused KimUnit."""
-        if self.definition.muscle_model == "fused":
-            return kim_fused(substeps=int(self.definition.muscle_substeps))
+        """The muscle model of every unit: None (the three Kim mechanisms) or a fresh KimUnit (KimUnitFixed)."""
+        model = self.definition.muscle_model
+        if model in FUSED_MUSCLE_MODELS:
+            return kim_fused(substeps=int(self.definition.muscle_substeps), fixed_step=model == "fused_fixed")
         return None
 
     def _new_length(self, h: Any, sec: Any) -> Any:

@@ -11,7 +11,7 @@
     size_spacing = 1.0                 # how sizes spread over the ranks (>= 1; PoolDefinition.size_spacing)
     axon_length_mm = 900.0
     neuromodulation = 0.6              # PIC strength (0: none; 1: the decerebrate cat's)
-    muscle = "modules"                 # or "fused"
+    muscle = "modules"                 # or "fused", "fused_fixed"
     channels = "fused"                 # or "separate"
     [drive]
     kind = "ramp"                      # ramp | rise | synaptic | current | poisson

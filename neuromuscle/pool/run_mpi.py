@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
 from ..sim.simulator import ENGINES
+from .definition import MUSCLE_MODELS
 from .motoneuron import CHANNELS
 from .mpi import finish_mpi
 
@@ -96,10 +97,11 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--p0-range", type=float, default=d.p0_range)
     ap.add_argument("--length-mm", type=float, default=d.length_mm)
     ap.add_argument("--record-dt-ms", type=float, default=d.record_dt_ms)
-    ap.add_argument("--muscle", choices=("modules", "fused"), default=d.muscle,
-                    help="modules: KimCa, KimAct, KimForce per unit; fused: one KimUnit per unit (same numbers)")
+    ap.add_argument("--muscle", choices=MUSCLE_MODELS, default=d.muscle,
+                    help="modules: KimCa, KimAct, KimForce per unit; fused: one KimUnit per unit (same numbers); "
+                         "fused_fixed: one KimUnitFixed per unit (KimUnit's numbers, the fixed step only)")
     ap.add_argument("--substeps", type=int, default=d.substeps,
-                    help="with --muscle fused: the muscle advances every k membrane steps (step k dt)")
+                    help="with a fused muscle: the muscle advances every k membrane steps (step k dt)")
     ap.add_argument("--pic-substeps", type=int, default=d.pic_substeps,
                     help="with --channels fused: the PIC's gate (time constant 60 ms) advances every k membrane steps")
     ap.add_argument("--nthread", type=int, default=d.nthread, help="NEURON threads per rank")

@@ -76,6 +76,21 @@ def _registered_states() -> list[tuple[str, float]]:
     return [(f"{c.suffix}.{s.name}", s.atolscale) for c in comps for s in c.states]
 
 
+def _refuse_fixed_step_only() -> None:
+    """InputError when the model holds a mechanism that only the fixed step advances (KimUnitFixed): under CVODE
+    it would stand still."""
+    from neuron import h
+
+    from ..model.mechanisms import fixed_step_only_mechanisms
+
+    for name in fixed_step_only_mechanisms():
+        n = int(h.List(name).count())
+        if n:
+            raise InputError(f"{n} {name} point process(es) advance under the fixed step only: run them with "
+                             "method='fixed', or build the muscle with KimUnit (kim_fused() without fixed_step, a "
+                             "pool's muscle_model='fused') for CVODE")
+
+
 @dataclass(frozen=True)
 class Simulator:
     """How to integrate: ``method`` "fixed" (step ``dt_ms``, ms) or "cvode" (variable step, ``atol`` in each
@@ -357,6 +372,8 @@ class Simulator:
             raise InputError(f"duration_ms must be finite and > 0, got {duration_ms!r}")
         for u in units:
             u.prepare()
+        if self.method == "cvode":
+            _refuse_fixed_step_only()
         saved = self.snapshot()
         try:
             self._apply()

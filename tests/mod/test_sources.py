@@ -1,6 +1,6 @@
 """The NMODL sources as NEURON writes its own: a TITLE in every file, the file named after its mechanism (where the
 registration order allows), and each equation written once: the fused mechanisms INCLUDE the modules' .inc files
-instead of restating them."""
+instead of restating them, and the two fused Kim units share one .inc file."""
 
 import re
 
@@ -10,6 +10,9 @@ from neuromuscle.model import mechanisms
 #: it), not after their mechanism.
 ORDERED = {"kim_m1_calcium.mod": "KimCa", "kim_m2_activation.mod": "KimAct", "kim_m3_force.mod": "KimForce",
            "kim_unit.mod": "KimUnit"}
+
+#: The fused unit for the fixed step alone, registered where KimUnit is.
+FIXED_UNIT = {"kim_unit_fixed.mod": "KimUnitFixed"}
 
 #: The benchmark of the published integration scheme: the same equations written the authors' way on purpose.
 INDEPENDENT = {"KimPublished.mod"}
@@ -32,7 +35,7 @@ def test_every_mod_file_starts_with_a_title():
 def test_each_file_is_named_after_its_mechanism():
     for f in _mods():
         name = _mechanism(f.read_text())
-        assert ORDERED.get(f.name, f.stem) == name, f"{f.name} defines {name}"
+        assert {**ORDERED, **FIXED_UNIT}.get(f.name, f.stem) == name, f"{f.name} defines {name}"
 
 
 def test_the_modules_and_what_they_read_register_in_order_in_any_locale():
@@ -47,8 +50,9 @@ def test_the_modules_and_what_they_read_register_in_order_in_any_locale():
         assert m1 < m2 < m3
         feeders = [n for n in names if n.startswith(("Ext", "Hatze"))]
         assert feeders and all(pos[n] < m1 and pos[n] < fused for n in feeders)
-        others = [n for n in names if n not in ORDERED]
-        assert all((pos[n] < m1) == (pos[n] < fused) and (pos[n] < m3) == (pos[n] < fused) for n in others)
+        others = [n for n in names if n not in ORDERED and n not in FIXED_UNIT]
+        for unit in (fused, *(pos[n] for n in FIXED_UNIT)):
+            assert all((pos[n] < m1) == (pos[n] < unit) and (pos[n] < m3) == (pos[n] < unit) for n in others)
 
 
 def _equations(text):
@@ -80,8 +84,10 @@ def test_no_equation_is_written_twice():
 def test_the_fused_mechanisms_include_their_modules_equations():
     includes = {f.name: set(re.findall(r'^INCLUDE "([\w.]+)"', f.read_text(), re.M)) for f in _mods()}
     # fixed_step.inc: the step count every mechanism that advances its own states shares (secondorder)
-    assert includes["kim_unit.mod"] == {"kim_m1_calcium.inc", "kim_m2_activation.inc", "kim_m3_force.inc",
-                                       "fixed_step.inc"}
+    # both fused units: their declarations, initial state and fixed step once, in kim_unit.inc
+    assert includes["kim_unit.mod"] == includes["kim_unit_fixed.mod"] == {"kim_unit.inc"}
+    shared = set(re.findall(r'^INCLUDE "([\w.]+)"', (mechanisms.mod_dir() / "kim_unit.inc").read_text(), re.M))
+    assert shared == {"kim_m1_calcium.inc", "kim_m2_activation.inc", "kim_m3_force.inc", "fixed_step.inc"}
     # mn_ohmic.inc: the leak and the synaptic conductance the fused cell carries instead of pas and mn_syn
     assert includes["mn_soma.mod"] == {"mn_naf.inc", "mn_kdr.inc", "mn_can.inc", "mn_cadyn.inc", "mn_kca.inc",
                                        "mn_ohmic.inc", "fixed_step.inc"}

@@ -6,7 +6,7 @@ import numpy as np
 from neuromuscle import MuscleUnit
 from neuromuscle.model import integrator, mechanisms
 
-FLAGGED = {"KimCa", "KimAct", "KimForce", "KimUnit", "HatzeExc", "HatzeMTC", "mn_soma", "mn_pic"}
+FLAGGED = {"KimCa", "KimAct", "KimForce", "KimUnit", "KimUnitFixed", "HatzeExc", "HatzeMTC", "mn_soma", "mn_pic"}
 
 
 def test_the_mechanisms_with_an_integrator_specific_step_declare_the_flag():
