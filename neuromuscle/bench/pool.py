@@ -26,7 +26,7 @@ import numpy as np
 from ..errors import InputError, NeuromuscleError
 from ..pool.mpi import mpi_available, mpiexec_command
 from ..pool.definition import FUSED_MUSCLE_MODELS, MUSCLE_MODELS
-from ..pool.motoneuron import CHANNELS
+from ..pool.motoneuron import CHANNELS, FUSED_CHANNELS
 from ..sim.simulator import ENGINES
 
 #: Default run (about two minutes on two cores) and --full (N = 100 to 800).
@@ -110,7 +110,7 @@ def agreement(a: Any, b: Any) -> dict[str, Any]:
 def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANKS,
                duration_ms: float = DEFAULT_DURATION_MS, dt_ms: float = DEFAULT_DT_MS, drive: str = "synaptic",
                full: bool = False, progress: bool = False, muscle: str = "fused_fixed", substeps: int | None = None,
-               nthread: int = 1, channels: str = "fused", engines: Sequence[str] = ("neuron",),
+               nthread: int = 1, channels: str = "fused_fixed", engines: Sequence[str] = ("neuron",),
                cell_permute: int = 1, secondorder: int = 2, pic_substeps: int | None = None) -> dict[str, Any]:
     """Run every (N, ranks) pair and return {"runs": [report, ...], "skipped": [...], settings}; a rank count
     that cannot run here (no MPI) is listed under "skipped" with the reason.  The drive is a common synaptic
@@ -121,7 +121,8 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
     (KimUnit) or "fused_fixed" (KimUnitFixed, the default); ``substeps`` k: the fused muscle advances every k
     membrane steps (None: every MUSCLE_STEP_MS, k = round(0.2 ms / dt)); ``pic_substeps``: the fused channels'
     PIC gate likewise (None: as the muscle's, 1 with the separate channels); ``nthread``: NEURON threads per
-    rank; ``channels``: the motoneurons' ("fused" or "separate").  The defaults are the fast path:
+    rank; ``channels``: the motoneurons' ("fused_fixed", the default, "fused" or "separate").  The defaults are
+    the fast path:
     Crank-Nicolson at dt 1/30 ms (DEFAULT_DT_MS), the fused channels with their PIC gate and the fused muscle
     every 0.2 ms; the errors of each against the reference are in
     docs/validation/speed.md.  ``engines``: "neuron", "coreneuron" or
@@ -142,7 +143,7 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
     if substeps is None:
         substeps = max(1, round(MUSCLE_STEP_MS / dt_ms)) if muscle in FUSED_MUSCLE_MODELS else 1
     if pic_substeps is None:
-        pic_substeps = max(1, round(MUSCLE_STEP_MS / dt_ms)) if channels == "fused" else 1
+        pic_substeps = max(1, round(MUSCLE_STEP_MS / dt_ms)) if channels in FUSED_CHANNELS else 1
     if cell_permute not in (0, 1) or isinstance(cell_permute, bool):
         raise InputError(f"cell_permute must be 0 or 1, got {cell_permute!r}")
     for name, k in (("substeps", substeps), ("nthread", nthread), ("pic_substeps", pic_substeps)):
@@ -154,8 +155,8 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
         raise InputError(f"secondorder must be 0, 1 or 2, got {secondorder!r}")
     if channels not in CHANNELS:
         raise InputError(f"channels must be one of {', '.join(CHANNELS)}, got {channels!r}")
-    if pic_substeps > 1 and channels != "fused":
-        raise InputError(f"pic_substeps = {pic_substeps} needs channels='fused'")
+    if pic_substeps > 1 and channels not in FUSED_CHANNELS:
+        raise InputError(f"pic_substeps = {pic_substeps} needs channels='fused' or 'fused_fixed'")
     if not engines or any(e not in ENGINES for e in engines) or len(set(engines)) != len(engines):
         raise InputError(f"engines must be one or more of {', '.join(ENGINES)}, each once, got {list(engines)}")
     extra = {"ramp": ["--ramp-peak-na", "20"], "synaptic": ["--synaptic-peak-us", str(SYNAPTIC_PEAK_US)]}.get(drive, [])

@@ -109,10 +109,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bp.add_argument("--substeps", type=int, default=None,
                     help="with a fused muscle: the muscle advances every k membrane steps (step k dt; default: "
                          "every 0.2 ms, k = round(0.2 / dt), and 1 with --muscle modules)")
-    bp.add_argument("--channels", choices=CHANNELS, default="fused",
-                    help="motoneuron channels: fused (mn_soma + mn_pic, tabulated) or separate (the reference)")
+    bp.add_argument("--channels", choices=CHANNELS, default="fused_fixed",
+                    help="motoneuron channels: fused (mn_soma + mn_pic, tabulated), fused_fixed (mn_soma_fixed + "
+                         "mn_pic_fixed: the same, cheaper, the fixed step only) or separate (the reference)")
     bp.add_argument("--pic-substeps", type=int, default=None,
-                    help="with --channels fused: the PIC's gate (time constant 60 ms) advances every k membrane steps "
+                    help="with fused channels: the PIC's gate (time constant 60 ms) advances every k membrane steps "
                          "(default: as the muscle, every 0.2 ms)")
     bp.add_argument("--nthread", type=int, default=1, help="NEURON threads per rank")
     bp.add_argument("--drive", choices=("synaptic", "ramp", "poisson"), default="synaptic",

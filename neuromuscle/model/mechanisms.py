@@ -59,8 +59,13 @@ def required_mechanisms() -> tuple[str, ...]:
     return tuple(c.suffix for c in _components())
 
 
+#: Density mechanisms that only NEURON's fixed step advances: the fused motoneuron channels' fixed-step forms.
+FIXED_STEP_ONLY_CHANNELS = ("mn_soma_fixed", "mn_pic_fixed")
+
+
 def fixed_step_only_mechanisms() -> tuple[str, ...]:
-    """POINT_PROCESS names of the components that only NEURON's fixed step advances (KimUnitFixed)."""
+    """POINT_PROCESS names of the components that only NEURON's fixed step advances (KimUnitFixed); the density
+    mechanisms are FIXED_STEP_ONLY_CHANNELS."""
     return tuple(c.suffix for c in _components() if c.fixed_step_only)
 
 

@@ -11,8 +11,8 @@ import numpy as np
 from ..errors import InputError
 from ..parameters import ParameterSet
 from ..validate import finite_number, nonnegative_number, positive_number
-from .motoneuron import (CHANNELS, HUMAN_NEUROMODULATION, TYPES, MotoneuronParameters, motoneuron_parameters,
-                         unit_type_of)
+from .motoneuron import (CHANNELS, FUSED_CHANNELS, HUMAN_NEUROMODULATION, TYPES, MotoneuronParameters,
+                         motoneuron_parameters, unit_type_of)
 from .units import TWITCH_SPEED, p0_spread_N, unit_muscle_parameters
 
 
@@ -67,8 +67,9 @@ class PoolDefinition:
     membrane steps, its current still every step.
     ``size_spacing``: how sizes spread over the ranks (``size_index``).  ``p0_N``: every unit's P0 (N, recruitment
     order) instead of the exponential spread.
-    ``motoneuron_channels``: "fused" (mn_soma + mn_pic, tabulated rates) or "separate" (one mechanism per channel,
-    the reference); see ``motoneuron.CHANNELS``."""
+    ``motoneuron_channels``: "fused" (mn_soma + mn_pic, tabulated rates), "fused_fixed" (mn_soma_fixed +
+    mn_pic_fixed: the same, cheaper, the fixed step only) or "separate" (one mechanism per channel, the reference);
+    see ``motoneuron.CHANNELS``."""
 
     n_units: int
     muscle: ParameterSet
@@ -120,8 +121,8 @@ class PoolDefinition:
         for name, k, fused, needs in (
                 ("muscle_substeps", self.muscle_substeps, self.muscle_model in FUSED_MUSCLE_MODELS,
                  "muscle_model='fused' or 'fused_fixed' (the three mechanisms advance every step)"),
-                ("pic_substeps", self.pic_substeps, self.motoneuron_channels == "fused",
-                 "motoneuron_channels='fused' (mn_cal advances every step)")):
+                ("pic_substeps", self.pic_substeps, self.motoneuron_channels in FUSED_CHANNELS,
+                 "motoneuron_channels='fused' or 'fused_fixed' (mn_cal advances every step)")):
             if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
                 raise InputError(f"{where}: {name} must be an integer >= 1, got {k!r}")
             if k > 1 and not fused:

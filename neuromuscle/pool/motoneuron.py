@@ -10,6 +10,8 @@ mn_cadyn (submembrane Ca), mn_kca (the AHP), leak (pas); dendrite mn_cal (L-type
 (``channels="fused"``) the soma's five and its leak run as one mechanism, mn_soma, and the PIC with the
 dendrite's leak as mn_pic, each also carrying its compartment's share of the common synaptic drive: the same
 equations with tabulated rates under the fixed step (exact under CVODE), a third faster in a pool;
+``channels="fused_fixed"`` runs them as mn_soma_fixed and mn_pic_fixed, cheaper again per step, under the fixed
+step only (the Simulator refuses them under CVODE);
 ``channels="separate"`` builds the reference (tests/pool/test_motoneuron_channels.py compares them).  The structure
 is that of Booth, Rinzel & Kiehn 1997 (two compartments, PIC in the dendrite); the geometry is an equivalent
 cylinder dendrite.
@@ -63,9 +65,13 @@ from ..errors import InputError
 from ..validate import finite_number, positive_number
 
 #: The channel implementations: "fused" (mn_soma + mn_pic: one mechanism per compartment, tabulated rates under
-#: the fixed step; the default) or "separate" (mn_naf, mn_kdr, mn_can, mn_cadyn, mn_kca + mn_cal: the reference,
-#: one mechanism per channel, NEURON's cnexp).
-CHANNELS = ("fused", "separate")
+#: the fixed step; the default), "fused_fixed" (mn_soma_fixed + mn_pic_fixed: the same at a lower cost per step,
+#: the fixed step only) or "separate" (mn_naf, mn_kdr, mn_can, mn_cadyn, mn_kca + mn_cal: the reference, one
+#: mechanism per channel, NEURON's cnexp).
+CHANNELS = ("fused", "fused_fixed", "separate")
+
+#: The soma's and the dendrite's mechanism of each fused channel set.
+FUSED_CHANNELS = {"fused": ("mn_soma", "mn_pic"), "fused_fixed": ("mn_soma_fixed", "mn_pic_fixed")}
 
 #: Reversal potential (mV) of the excitatory synaptic drive (glutamatergic, AMPA-like: mixed cations).
 SYNAPTIC_REVERSAL_MV = 0.0
@@ -231,7 +237,7 @@ def parse_settings(items: Iterable[str]) -> dict[str, float]:
 
 #: The fused mechanisms that carry their compartment's synaptic conductance (``gsyn``, and a pool's common drive
 #: from their shared GLOBAL ``gcommon``, uS).
-COMMON_SYNAPTIC_MECHANISMS = ("mn_soma", "mn_pic")
+COMMON_SYNAPTIC_MECHANISMS = tuple(name for pair in FUSED_CHANNELS.values() for name in pair)
 
 
 def membrane_area_um2(sections: Iterable[Any]) -> float:
@@ -307,7 +313,7 @@ class Motoneuron:
             raise InputError(f"{name}: channels must be one of {', '.join(CHANNELS)}, got {channels!r}")
         if isinstance(pic_substeps, bool) or not isinstance(pic_substeps, int) or pic_substeps < 1:
             raise InputError(f"{name}: pic_substeps must be an integer >= 1, got {pic_substeps!r}")
-        if pic_substeps > 1 and channels != "fused":
+        if pic_substeps > 1 and channels not in FUSED_CHANNELS:
             raise InputError(f"{name}: pic_substeps = {pic_substeps} needs the fused channels")
         load_mechanisms()
         from neuron import h
@@ -323,19 +329,21 @@ class Motoneuron:
         for sec in self.sections:
             sec.Ra, sec.cm = p.ra_ohm_cm, p.cm_uF_per_cm2
         self.channels = channels
-        if channels == "fused":
+        if channels in FUSED_CHANNELS:
             # the leak and the synaptic drive ride in the fused mechanisms (mn_ohmic.inc): no pas, no mn_syn
-            self.soma.insert("mn_soma")
-            m = self.soma(0.5).mn_soma
+            soma_mech, pic_mech = self.fused_mechanisms
+            self.soma.insert(soma_mech)
+            m = getattr(self.soma(0.5), soma_mech)
             m.gnaf, m.gkdr, m.gcan, m.gkca = (p.g_naf_S_per_cm2, p.g_kdr_S_per_cm2, p.g_can_S_per_cm2,
                                               p.g_kca_S_per_cm2)
             m.ena, m.ek, m.depth, m.taur, m.kd = p.ena_mV, p.ek_mV, p.ca_depth_um, p.ca_decay_ms, p.kca_kd_mM
             m.gleak, m.eleak = 1.0 / p.rm_soma_ohm_cm2, p.e_leak_mV
-            self.dend.insert("mn_pic")
+            self.dend.insert(pic_mech)
             for s, g in zip(self.dend, p.pic_densities()):
-                s.mn_pic.gbar, s.mn_pic.vhalf, s.mn_pic.slope = g, p.cal_vhalf_mV, p.cal_slope_mV
-                s.mn_pic.gleak, s.mn_pic.eleak = 1.0 / p.rm_dend_ohm_cm2, p.e_leak_mV
-                s.mn_pic.substeps = pic_substeps
+                pic = getattr(s, pic_mech)
+                pic.gbar, pic.vhalf, pic.slope = g, p.cal_vhalf_mV, p.cal_slope_mV
+                pic.gleak, pic.eleak = 1.0 / p.rm_dend_ohm_cm2, p.e_leak_mV
+                pic.substeps = pic_substeps
             self._insert_slow_adaptation()
             return
         for sec, rm in ((self.soma, p.rm_soma_ohm_cm2), (self.dend, p.rm_dend_ohm_cm2)):
@@ -363,6 +371,11 @@ class Motoneuron:
             m.gbar, m.mtau, m.ek = p.g_ks_S_per_cm2, p.ks_tau_ms, p.ek_mV
 
     @property
+    def fused_mechanisms(self) -> tuple[str, str]:
+        """The soma's and the dendrite's mechanism of the fused channels (("", "") with the separate ones)."""
+        return FUSED_CHANNELS.get(self.channels, ("", ""))
+
+    @property
     def axon_delay_ms(self) -> float:
         """Conduction delay (ms) from the soma to the muscle unit."""
         return self.params.axon_delay_ms
@@ -384,20 +397,22 @@ class Motoneuron:
     def play_synaptic_conductance(self, times_ms: Any, conductance_uS: Any, events: bool = True) -> list[Any]:
         """The common synaptic drive on soma and dendrite (``play_synaptic_conductance``; with the fused
         channels into mn_soma's and mn_pic's own ``gsyn``); returns the Vectors to keep alive."""
-        fused = COMMON_SYNAPTIC_MECHANISMS if self.channels == "fused" else None
+        fused = self.fused_mechanisms if self.channels in FUSED_CHANNELS else None
         return play_synaptic_conductance(self.sections, times_ms, conductance_uS, events, fused)
 
     def share_common_synaptic(self, on: bool) -> None:
         """Let the fused mechanisms' shared ``gcommon`` (uS, one play for a whole pool: ``Pool.drive_synaptic``)
         drive this cell (``on``), spread uniformly over its membrane as ``play_synaptic_conductance`` spreads it,
         or not.  Only the fused channels carry it."""
-        if self.channels != "fused":
+        if self.channels not in FUSED_CHANNELS:
             raise InputError(f"{self.name}: only the fused channels share a common synaptic drive")
         density = 100.0 / self.membrane_area_um2() if on else 0.0   # S/cm2 per uS of the cell's total
-        soma = self.soma(0.5).mn_soma
+        soma_mech, pic_mech = self.fused_mechanisms
+        soma = getattr(self.soma(0.5), soma_mech)
         soma.fcommon, soma.esyn = density, SYNAPTIC_REVERSAL_MV
         for seg in self.dend:
-            seg.mn_pic.fcommon, seg.mn_pic.esyn = density, SYNAPTIC_REVERSAL_MV
+            pic = getattr(seg, pic_mech)
+            pic.fcommon, pic.esyn = density, SYNAPTIC_REVERSAL_MV
 
     def recordables(self) -> dict[str, str]:
         """The recordable variables (RECORDABLES) with their units."""
@@ -414,10 +429,10 @@ class Motoneuron:
         seg = self.section_of(variable)(0.5)
         if variable in ("v", "v_dend"):
             return seg._ref_v
-        fused = self.channels == "fused"
-        if variable == "i_pic":
-            return seg.mn_pic._ref_ipic if fused else seg._ref_ica   # mn_cal is the dendrite's only calcium current
-        return seg.mn_soma._ref_cai if fused else seg._ref_cai
+        soma_mech, pic_mech = self.fused_mechanisms
+        if variable == "i_pic":   # mn_cal is the dendrite's only calcium current
+            return getattr(seg, pic_mech)._ref_ipic if pic_mech else seg._ref_ica
+        return getattr(seg, soma_mech)._ref_cai if soma_mech else seg._ref_cai
 
     def spike_source(self) -> Any:
         """The soma's membrane potential reference (a NetCon source; give ``section=self.soma``)."""

@@ -45,9 +45,12 @@ from ..sim.simulator import ENGINES
 from ..validate import check_spike_times, finite_number, nonnegative_number, positive_number, seed_value
 from .definition import FUSED_MUSCLE_MODELS, PoolDefinition, UnitSpec
 from .cells import CellFactory, MotoneuronCell, reduced_cells
-from .motoneuron import COMMON_SYNAPTIC_MECHANISMS, Motoneuron, clear_synaptic_conductance
+from .motoneuron import COMMON_SYNAPTIC_MECHANISMS, FUSED_CHANNELS, Motoneuron, clear_synaptic_conductance
 from .recording import PoolUnit, gather_recordings
 from .result import PoolResult
+
+#: The dendritic PIC mechanisms whose gate ``pic_substeps`` steps (mn_pic, mn_pic_fixed).
+PIC_MECHANISMS = tuple(pic for _, pic in FUSED_CHANNELS.values())
 
 #: NetCon threshold (mV) of the soma spike detector.
 SPIKE_THRESHOLD_MV = -10.0
@@ -65,13 +68,14 @@ def _nobody() -> None:
 
 
 def _set_pic_substeps(cell: MotoneuronCell, k: int) -> None:
-    """The definition's pic_substeps on a cell of the user's: every mn_pic segment's gate every k steps;
-    InputError naming the cell when it has no mn_pic (nothing for the setting to act on)."""
-    segs = [seg for sec in cell.sections if sec.has_membrane("mn_pic") for seg in sec]
-    if not segs:
+    """The definition's pic_substeps on a cell of the user's: the gate of every segment's mn_pic (or mn_pic_fixed)
+    every k steps; InputError naming the cell when it has neither (nothing for the setting to act on)."""
+    pics = [getattr(seg, name) for sec in cell.sections for name in PIC_MECHANISMS if sec.has_membrane(name)
+            for seg in sec]
+    if not pics:
         raise InputError(f"{cell.name}: pic_substeps = {k} needs mn_pic in the cell's sections; this cell has none")
-    for seg in segs:
-        seg.mn_pic.substeps = k
+    for pic in pics:
+        pic.substeps = k
 
 
 def parallel_context() -> Any:
@@ -226,8 +230,9 @@ class Pool:
         live pool's drive; cells other than the fused reduced ones).  Both give every cell the same conductance."""
         from neuron import h
 
-        shared = not (sim.local_dt or sim.nthread > 1 or sim.engine == "coreneuron") and all(
-            isinstance(c, Motoneuron) and c.channels == "fused" for c in self.cells.values())
+        kinds = {c.fused_mechanisms if isinstance(c, Motoneuron) else ("", "") for c in self.cells.values()}
+        mechanisms = kinds.pop() if len(kinds) == 1 else ("", "")
+        shared = not (sim.local_dt or sim.nthread > 1 or sim.engine == "coreneuron") and all(mechanisms)
         owner = Pool._synaptic_owner()
         kind = "common" if shared and (owner is None or owner is self) else "cells"
         if kind == self._synaptic_kind:
@@ -237,7 +242,7 @@ class Pool:
         if kind == "common":
             for cell in self.cells.values():
                 cell.share_common_synaptic(True)   # type: ignore[attr-defined]
-            for mech in COMMON_SYNAPTIC_MECHANISMS:
+            for mech in mechanisms:
                 vec = h.Vector(steps)
                 vec.play(getattr(h, f"_ref_gcommon_{mech}"), tv, 0)
                 self._synaptic_plays.append(vec)

@@ -12,7 +12,7 @@
     axon_length_mm = 900.0
     neuromodulation = 0.6              # PIC strength (0: none; 1: the decerebrate cat's)
     muscle = "modules"                 # or "fused", "fused_fixed"
-    channels = "fused"                 # or "separate"
+    channels = "fused"                 # or "fused_fixed", "separate"
     [drive]
     kind = "ramp"                      # ramp | rise | synaptic | current | poisson
     peak_uS = 0.6                      # ramp, rise: the synaptic conductance's peak (uS a cell)

@@ -103,10 +103,11 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--substeps", type=int, default=d.substeps,
                     help="with a fused muscle: the muscle advances every k membrane steps (step k dt)")
     ap.add_argument("--pic-substeps", type=int, default=d.pic_substeps,
-                    help="with --channels fused: the PIC's gate (time constant 60 ms) advances every k membrane steps")
+                    help="with fused channels: the PIC's gate (time constant 60 ms) advances every k membrane steps")
     ap.add_argument("--nthread", type=int, default=d.nthread, help="NEURON threads per rank")
     ap.add_argument("--channels", choices=CHANNELS, default=d.channels,
-                    help="motoneuron channels: fused (mn_soma + mn_pic) or separate (one mechanism each)")
+                    help="motoneuron channels: fused (mn_soma + mn_pic), fused_fixed (mn_soma_fixed + mn_pic_fixed, "
+                         "the fixed step only) or separate (one mechanism each)")
     ap.add_argument("--engine", choices=ENGINES, default=d.engine,
                     help="neuron, or coreneuron (NEURON's compute engine; fixed step only)")
     ap.add_argument("--cell-permute", type=int, choices=(0, 1), default=d.cell_permute,

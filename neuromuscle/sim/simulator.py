@@ -77,11 +77,11 @@ def _registered_states() -> list[tuple[str, float]]:
 
 
 def _refuse_fixed_step_only() -> None:
-    """InputError when the model holds a mechanism that only the fixed step advances (KimUnitFixed): under CVODE
-    it would stand still."""
+    """InputError when the model holds a mechanism that only the fixed step advances (KimUnitFixed, mn_soma_fixed,
+    mn_pic_fixed): under CVODE its states would stand still."""
     from neuron import h
 
-    from ..model.mechanisms import fixed_step_only_mechanisms
+    from ..model.mechanisms import FIXED_STEP_ONLY_CHANNELS, fixed_step_only_mechanisms
 
     for name in fixed_step_only_mechanisms():
         n = int(h.List(name).count())
@@ -89,6 +89,11 @@ def _refuse_fixed_step_only() -> None:
             raise InputError(f"{n} {name} point process(es) advance under the fixed step only: run them with "
                              "method='fixed', or build the muscle with KimUnit (kim_fused() without fixed_step, a "
                              "pool's muscle_model='fused') for CVODE")
+    for name in FIXED_STEP_ONLY_CHANNELS:
+        secs = [sec.name() for sec in h.allsec() if sec.has_membrane(name)]
+        if secs:
+            raise InputError(f"{name} in {len(secs)} section(s) ({secs[0]}, ...) advances under the fixed step "
+                             "only: run with method='fixed', or build the cells with channels='fused' for CVODE")
 
 
 @dataclass(frozen=True)

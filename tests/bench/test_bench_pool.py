@@ -52,7 +52,8 @@ def test_bench_pool_muscle_keeps_its_cadence_at_a_longer_membrane_step(capsys):
 def test_bench_pool_defaults_are_the_fast_path_and_the_reference_is_a_flag(capsys):
     assert main(["bench", "pool", "--json", "--units", "3", "--ranks", "1", "--duration-ms", "60"]) == 0
     fast = json.loads(capsys.readouterr().out)
-    assert (fast["muscle"], fast["substeps"], fast["channels"], fast["pic_substeps"]) == ("fused_fixed", 6, "fused", 6)
+    assert (fast["muscle"], fast["substeps"], fast["channels"], fast["pic_substeps"]) == ("fused_fixed", 6,
+                                                                                          "fused_fixed", 6)
     assert fast["runs"][0]["pic_substeps"] == 6 and "PIC gate substeps 6" in table_lines(fast)[0]
     assert main(["bench", "pool", "--json", "--units", "3", "--ranks", "1", "--duration-ms", "60", "--muscle",
                  "modules", "--channels", "separate", "--dt-ms", "0.025", "--secondorder", "0"]) == 0

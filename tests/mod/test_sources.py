@@ -68,6 +68,13 @@ def _equations(text):
     return out
 
 
+def test_the_fixed_step_only_mechanisms_are_the_fixed_files():
+    """Every *_fixed.mod is a fixed-step form the Simulator refuses under CVODE (by POINT_PROCESS or density)."""
+    fixed = {_mechanism(f.read_text()) for f in _mods() if f.stem.endswith("_fixed")}
+    assert fixed == set(mechanisms.fixed_step_only_mechanisms()) | set(mechanisms.FIXED_STEP_ONLY_CHANNELS)
+    assert fixed == {"KimUnitFixed", "mn_soma_fixed", "mn_pic_fixed"}
+
+
 def test_no_equation_is_written_twice():
     """No run of three consecutive computing statements appears in two files: a fused mechanism that restated its
     modules (KimUnit, mn_soma, mn_pic) would fail here."""
@@ -88,10 +95,15 @@ def test_the_fused_mechanisms_include_their_modules_equations():
     assert includes["kim_unit.mod"] == includes["kim_unit_fixed.mod"] == {"kim_unit.inc"}
     shared = set(re.findall(r'^INCLUDE "([\w.]+)"', (mechanisms.mod_dir() / "kim_unit.inc").read_text(), re.M))
     assert shared == {"kim_m1_calcium.inc", "kim_m2_activation.inc", "kim_m3_force.inc", "fixed_step.inc"}
-    # mn_ohmic.inc: the leak and the synaptic conductance the fused cell carries instead of pas and mn_syn
-    assert includes["mn_soma.mod"] == {"mn_naf.inc", "mn_kdr.inc", "mn_can.inc", "mn_cadyn.inc", "mn_kca.inc",
-                                       "mn_ohmic.inc", "fixed_step.inc"}
-    assert includes["mn_pic.mod"] == {"mn_cal.inc", "mn_ohmic.inc", "fixed_step.inc"}
+    # the fused channels and their fixed-step forms: one .inc each; mn_ohmic.inc: the leak and the synaptic
+    # conductance the fused cell carries instead of pas and mn_syn
+    inc = {name: set(re.findall(r'^INCLUDE "([\w.]+)"', (mechanisms.mod_dir() / f"{name}.inc").read_text(), re.M))
+           for name in ("mn_soma", "mn_pic")}
+    for name in ("mn_soma", "mn_pic"):
+        assert includes[f"{name}.mod"] == includes[f"{name}_fixed.mod"] == {f"{name}.inc"}
+    assert inc["mn_soma"] == {"mn_naf.inc", "mn_kdr.inc", "mn_can.inc", "mn_cadyn.inc", "mn_kca.inc",
+                              "mn_ohmic.inc", "fixed_step.inc"}
+    assert inc["mn_pic"] == {"mn_cal.inc", "mn_ohmic.inc", "fixed_step.inc"}
     assert "mn_ohmic.inc" in includes["mn_syn.mod"]
     for advancing in ("kim_m1_calcium", "kim_m2_activation", "kim_m3_force", "HatzeExc", "HatzeMTC"):
         assert "fixed_step.inc" in includes[f"{advancing}.mod"], advancing

@@ -6,7 +6,8 @@ import numpy as np
 from neuromuscle import MuscleUnit
 from neuromuscle.model import integrator, mechanisms
 
-FLAGGED = {"KimCa", "KimAct", "KimForce", "KimUnit", "KimUnitFixed", "HatzeExc", "HatzeMTC", "mn_soma", "mn_pic"}
+FLAGGED = {"KimCa", "KimAct", "KimForce", "KimUnit", "KimUnitFixed", "HatzeExc", "HatzeMTC", "mn_soma", "mn_pic",
+           "mn_soma_fixed", "mn_pic_fixed"}
 
 
 def test_the_mechanisms_with_an_integrator_specific_step_declare_the_flag():

@@ -63,7 +63,7 @@ def test_cvode_is_refused_with_the_mechanism_named(ct09):
 def test_a_pool_of_kimunitfixed_is_a_pool_of_kimunit(ct09):
     forces, spikes = [], []
     for model in ("fused", "fused_fixed"):
-        d = PoolDefinition(5, ct09, muscle_model=model, muscle_substeps=6, pic_substeps=6)
+        d = PoolDefinition(5, ct09, muscle_model=model, muscle_substeps=6, pic_substeps=6)   # mn_soma, mn_pic
         with Pool(d, length=-8.0) as pool:
             pool.drive_current_ramp([0.0, 300.0], [0.0, 20.0])
             r = pool.run(300.0, Simulator(dt_ms=1 / 30, secondorder=2))

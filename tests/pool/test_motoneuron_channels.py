@@ -1,5 +1,6 @@
 """The fused channels (mn_soma + mn_pic) against the reference channels (mn_naf, mn_kdr, mn_can, mn_cadyn,
-mn_kca + mn_cal): the same equations, so the same spikes, under the fixed step and under CVODE."""
+mn_kca + mn_cal): the same equations, so the same spikes, under the fixed step and under CVODE; their fixed-step
+forms (mn_soma_fixed + mn_pic_fixed) against them under the fixed step, and refused under CVODE."""
 
 import numpy as np
 import pytest
@@ -21,7 +22,7 @@ def _spikes(channels: str, size: float, *, table: bool = True, method: str = "fi
     from neuromuscle.sim import Simulator
 
     load_mechanisms()
-    h.usetable_mn_soma = h.usetable_mn_pic = 1 if table else 0
+    h.usetable_mn_soma = h.usetable_mn_pic = h.usetable_mn_soma_fixed = h.usetable_mn_pic_fixed = 1 if table else 0
     try:
         with Motoneuron(motoneuron_parameters(size), channels=channels, pic_substeps=pic_substeps) as mn:
             ic = h.IClamp(mn.soma(0.5))
@@ -40,7 +41,7 @@ def _spikes(channels: str, size: float, *, table: bool = True, method: str = "fi
             av.play_remove()
             del nc, ic
     finally:
-        h.usetable_mn_soma = h.usetable_mn_pic = 1
+        h.usetable_mn_soma = h.usetable_mn_pic = h.usetable_mn_soma_fixed = h.usetable_mn_pic_fixed = 1
     return spikes
 
 
@@ -127,6 +128,26 @@ def test_the_pic_gate_every_few_steps_keeps_the_spikes(secondorder):
         Motoneuron(motoneuron_parameters(0.2), pic_substeps=0)
 
 
+@pytest.mark.parametrize("size", [0.0, 1.0])
+def test_the_fixed_step_forms_are_the_fused_channels(size):
+    """Backward Euler: the same arithmetic, bit for bit (the PIC gate every step or every 8).  Crank-Nicolson:
+    mn_soma advances m, h and n in two half steps with the factors tabulated for dt/2, mn_soma_fixed in one whole
+    step with those for dt (the same exponential update, another table interpolation): no spike more than a step
+    apart in a second of firing."""
+    assert np.array_equal(_spikes("fused_fixed", size), _spikes("fused", size))
+    assert np.array_equal(_spikes("fused_fixed", size, pic_substeps=8), _spikes("fused", size, pic_substeps=8))
+    dt = 1 / 30
+    a = _spikes("fused", size, secondorder=2, dt_ms=dt, pic_substeps=6)
+    b = _spikes("fused_fixed", size, secondorder=2, dt_ms=dt, pic_substeps=6)
+    assert a.size > 20
+    assert _max_shift(b, a) <= dt + 1e-9
+
+
+def test_the_fixed_step_forms_are_refused_under_cvode():
+    with pytest.raises(InputError, match="mn_soma_fixed in 1 section.*fixed step only"):
+        _spikes("fused_fixed", 0.0, method="cvode", duration_ms=10.0)
+
+
 def test_unknown_channels_are_refused():
     with pytest.raises(InputError, match="channels must be one of"):
         Motoneuron(motoneuron_parameters(0.2), channels="hh")
@@ -136,7 +157,8 @@ def test_unknown_channels_are_refused():
 def test_fused_and_separate_have_the_same_input_resistance(size):
     # NEURON's extended impedance linearises each mechanism's CVODE right-hand side and currents
     rin = {}
-    for channels in ("separate", "fused"):
+    for channels in ("separate", "fused", "fused_fixed"):
         with Motoneuron(motoneuron_parameters(size), channels=channels) as mn:
             rin[channels] = mn.input_resistance_MOhm()
     assert rin["fused"] == pytest.approx(rin["separate"], rel=1e-9)
+    assert rin["fused_fixed"] == rin["fused"]

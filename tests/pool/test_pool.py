@@ -7,6 +7,7 @@ import pytest
 from neuromuscle.errors import InputError
 from neuromuscle.model.extensions import registry
 from neuromuscle.pool import Pool, PoolDefinition, load_pool_result, p0_spread_N, unit_muscle_parameters
+from neuromuscle.pool.motoneuron import FUSED_CHANNELS
 
 
 def test_p0_spread_and_twitch_speed(ct09):
@@ -48,28 +49,30 @@ def test_common_clamp_and_per_soma_iclamps_give_the_same_pool(ct09):
     assert np.array_equal(common.unit_force_N, own.unit_force_N)
 
 
-def _synaptic_run(ct09):
+def _synaptic_run(ct09, channels="fused"):
     from neuron import h
 
-    with Pool(PoolDefinition(4, ct09, smallest_p0_N=0.2, p0_range=20.0)) as pool:
+    soma, pic = FUSED_CHANNELS[channels]
+    with Pool(PoolDefinition(4, ct09, smallest_p0_N=0.2, p0_range=20.0, motoneuron_channels=channels)) as pool:
         pool.drive_synaptic([0.0, 200.0, 400.0], [0.0, 0.5, 0.3])
         r = pool.run(400.0)
         kind = pool._synaptic_kind
-        shares = [c.soma(0.5).mn_soma.fcommon for c in pool.cells.values()]
-        own = [seg.mn_pic.gsyn for c in pool.cells.values() for seg in c.dend]   # S/cm2 at the end
+        shares = [getattr(c.soma(0.5), soma).fcommon for c in pool.cells.values()]
+        own = [getattr(seg, pic).gsyn for c in pool.cells.values() for seg in c.dend]   # S/cm2 at the end
         syn = any(sec.has_membrane("mn_syn") for c in pool.cells.values() for sec in c.sections)
-    return r, kind, shares, own, syn, h.gcommon_mn_soma
+    return r, kind, shares, own, syn, getattr(h, f"gcommon_{soma}")
 
 
-def test_the_shared_synaptic_drive_and_per_segment_plays_give_the_same_pool(ct09):
+@pytest.mark.parametrize("channels", ["fused", "fused_fixed"])
+def test_the_shared_synaptic_drive_and_per_segment_plays_give_the_same_pool(ct09, channels):
     """One play into the fused mechanisms' shared gcommon, each compartment's fcommon its share of the cell's
     conductance, is the pool of one play a segment into the fused mechanisms' own gsyn, to the bit; a pool gives
-    the shared value back when it is destroyed; neither inserts mn_syn."""
+    the shared value back when it is destroyed; neither inserts mn_syn.  Either fused channel set."""
     import weakref
 
     from neuromuscle.pool import pool as pool_module
 
-    shared, kind, shares, own, syn, after = _synaptic_run(ct09)
+    shared, kind, shares, own, syn, after = _synaptic_run(ct09, channels)
     assert kind == "common" and all(x > 0 for x in shares) and not any(own) and not syn
     assert after == 0.0 and pool_module.Pool._synaptic_owner() is None
 
@@ -79,7 +82,7 @@ def test_the_shared_synaptic_drive_and_per_segment_plays_give_the_same_pool(ct09
     other = OtherPool()
     pool_module.Pool._synaptic_owner = weakref.ref(other)  # as if another live pool held the shared drive
     try:
-        cells, kind, shares, own, syn, _ = _synaptic_run(ct09)
+        cells, kind, shares, own, syn, _ = _synaptic_run(ct09, channels)
     finally:
         pool_module.Pool._synaptic_owner = pool_module._nobody
     assert kind == "cells" and all(x == 0 for x in shares) and all(x > 0 for x in own) and not syn

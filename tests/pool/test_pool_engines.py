@@ -39,7 +39,7 @@ def _assert_same(a, b):
 
 
 @pytest.mark.parametrize("muscle, substeps, channels", [("modules", 1, "fused"), ("fused", 8, "fused"),
-                                                        ("fused", 1, "separate"), ("fused_fixed", 8, "fused")])
+                                                        ("fused", 1, "separate"), ("fused_fixed", 8, "fused_fixed")])
 def test_coreneuron_pool_is_neurons_bit_for_bit(ct09, muscle, substeps, channels):
     d = PoolDefinition(6, ct09, muscle_model=muscle, muscle_substeps=substeps, motoneuron_channels=channels)
     a, b = _run(d, "neuron"), _run(d, "coreneuron")
@@ -56,12 +56,13 @@ def test_coreneuron_runs_the_late_adaptation_bit_for_bit(ct09):
     assert sum(s.size for s in a.spikes_ms) < sum(s.size for s in bare.spikes_ms)   # the slow K acts
 
 
-@pytest.mark.parametrize("muscle, substeps", [("modules", 1), ("fused", 8), ("fused_fixed", 8)])
-def test_coreneuron_under_crank_nicolson_is_neurons_bit_for_bit(ct09, muscle, substeps):
+@pytest.mark.parametrize("muscle, substeps, channels", [("modules", 1, "fused"), ("fused", 8, "fused"),
+                                                        ("fused_fixed", 8, "fused_fixed")])
+def test_coreneuron_under_crank_nicolson_is_neurons_bit_for_bit(ct09, muscle, substeps, channels):
     """secondorder 2: both engines halve dt in the mechanisms' METHOD euler blocks, which count the whole step.  The
     same spikes; the forces bit for bit with KimUnit (its derivatives are zero) and to rounding with the three
     mechanisms (KimCa's and KimForce's mean rates are added in two halves, in each engine's own order)."""
-    d = PoolDefinition(6, ct09, muscle_model=muscle, muscle_substeps=substeps)
+    d = PoolDefinition(6, ct09, muscle_model=muscle, muscle_substeps=substeps, motoneuron_channels=channels)
     a, b = _run(d, "neuron", secondorder=2), _run(d, "coreneuron", secondorder=2)
     assert sum(s.size for s in a.spikes_ms) > 10 and a.pool_force_N.max() > 0.1
     assert all(np.array_equal(x, y) for x, y in zip(a.spikes_ms, b.spikes_ms))

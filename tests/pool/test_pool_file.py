@@ -65,7 +65,7 @@ def test_the_size_range_reaches_the_definition():
     ({"units": {"types": [1, 0]}}, "src: units.types must be a list of 3 numbers"),
     ({"units": {"neuromodulation": -1}}, "src: units.neuromodulation must be >= 0"),
     ({"units": {"count": 3, "total_p0_N": 30, "muscle": "fused", "channels": "both"}},
-     "src: units.channels must be one of fused, separate"),
+     "src: units.channels must be one of fused, fused_fixed, separate"),
     ({"units": 3}, "src: \\[units\\] must be a section"),
     ({"record": {"variables": ["mn.v", "mn.v"]}}, "src: record.variables repeat"),
     ({"record": {"variables": "mn.v"}}, "src: record.variables must be a non-empty list"),

@@ -1,6 +1,8 @@
 """Pools of fused muscle units (PoolDefinition(muscle_model="fused"), KimUnit): the same spikes and forces, bit for
 bit, as pools of the three Kim mechanisms, with extensions too; the muscle every k membrane steps stays within a
-stated error of the every-step pool; impossible combinations are refused. (Two MPI ranks: tests/pool/test_mpi.py.)"""
+stated error of the every-step pool; the fixed-step forms (muscle_model and motoneuron_channels "fused_fixed")
+give the fused pool bit for bit under backward Euler and are refused under CVODE; impossible combinations are
+refused. (Two MPI ranks: tests/pool/test_mpi.py.)"""
 
 import numpy as np
 import pytest
@@ -34,6 +36,22 @@ def test_fused_pool_with_extensions_is_bit_identical_to_the_modules_pool(ct09, m
     fused = _ramp_pool(ct09, muscle_model="fused", extensions=extensions)
     assert not np.array_equal(modules.unit_force_N, modules_run.unit_force_N)   # the extensions act
     assert np.array_equal(modules.unit_force_N, fused.unit_force_N)
+
+
+def test_the_fixed_step_forms_give_the_fused_pool_bit_for_bit(ct09):
+    from neuromuscle.sim import Simulator
+
+    fused = _ramp_pool(ct09, muscle_model="fused", muscle_substeps=8, pic_substeps=8)
+    fixed = _ramp_pool(ct09, muscle_model="fused_fixed", muscle_substeps=8, pic_substeps=8,
+                       motoneuron_channels="fused_fixed")
+    assert sum(s.size for s in fused.spikes_ms) > 20
+    assert all(np.array_equal(a, b) for a, b in zip(fused.spikes_ms, fixed.spikes_ms))
+    np.testing.assert_array_equal(fixed.unit_force_N, fused.unit_force_N)
+    assert fixed.provenance["motoneuron_channels"] == "fused_fixed"
+    with Pool(PoolDefinition(2, ct09, motoneuron_channels="fused_fixed")) as pool:
+        pool.drive_current_ramp([0.0, 50.0], [0.0, 15.0])
+        with pytest.raises(InputError, match="mn_soma_fixed.*fixed step only"):
+            pool.run(50.0, Simulator(method="cvode"))
 
 
 def test_substeps_error_is_small_and_grows_with_k(ct09, modules_run):
