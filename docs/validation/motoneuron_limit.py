@@ -183,16 +183,18 @@ def run_loop(exe: Path, n: int, duration_ms: float, dt_ms: float, g_uS: float, o
     return float(text[0]), int(text[1])
 
 
-def run_neuron(n: int, duration_ms: float, dt_ms: float, g_uS: float) -> tuple[float, np.ndarray, np.ndarray]:
-    """The same N cells in NEURON (fused channels with the leak, a constant synaptic conductance g_uS on each
-    cell's membrane as a pool's common drive sets it, the threshold): (ns per cell-step, spike counts, first spike
-    times in ms or -1)."""
+def run_neuron(n: int, duration_ms: float, dt_ms: float, g_uS: float,
+               channels: str = "fused") -> tuple[float, np.ndarray, np.ndarray]:
+    """The same N cells in NEURON (``channels``: fused ones with the leak, or their fixed-step forms; a constant
+    synaptic conductance g_uS on each cell's membrane as a pool's common drive sets it, the threshold): (ns per
+    cell-step, spike counts, first spike times in ms or -1)."""
     from neuron import h
 
     from neuromuscle.pool.motoneuron import COMMON_SYNAPTIC_MECHANISMS, Motoneuron, motoneuron_parameters
 
     h.load_file("stdrun.hoc")
-    cells = [Motoneuron(motoneuron_parameters(i / max(n - 1, 1)), name=f"mn{i}") for i in range(n)]
+    cells = [Motoneuron(motoneuron_parameters(i / max(n - 1, 1)), name=f"mn{i}", channels=channels)
+             for i in range(n)]
     recs = []
     for mech in COMMON_SYNAPTIC_MECHANISMS:
         setattr(h, f"gcommon_{mech}", g_uS)
@@ -210,6 +212,8 @@ def run_neuron(n: int, duration_ms: float, dt_ms: float, g_uS: float) -> tuple[f
     start = time.perf_counter()
     h.continuerun(duration_ms)
     wall = time.perf_counter() - start
+    for cell in cells:
+        cell.destroy()
     counts = np.array([tv.size() for _, tv in recs])
     first = np.array([tv[0] if tv.size() else -1.0 for _, tv in recs])
     for mech in COMMON_SYNAPTIC_MECHANISMS:
@@ -230,6 +234,10 @@ def main() -> None:
         load = os.getloadavg()[0]
         ns, counts, first = run_neuron(args.units, args.duration_ms, args.dt_ms, args.g_us)
         rows.append(("NEURON (mn_soma, mn_pic; no muscle)", ns, int(counts.sum()), load, "-"))
+        load = os.getloadavg()[0]
+        ns, fixed_counts, _ = run_neuron(args.units, args.duration_ms, args.dt_ms, args.g_us, "fused_fixed")
+        rows.append(("NEURON (mn_soma_fixed, mn_pic_fixed; no muscle)", ns, int(fixed_counts.sum()), load,
+                     f"{int(np.sum(fixed_counts != counts))} cells with another count"))
         for i, (label, flags) in enumerate(BUILDS):
             exe = compile_loop(folder, flags, f"loop{i}")
             load = os.getloadavg()[0]
