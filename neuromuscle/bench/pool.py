@@ -8,6 +8,11 @@ machine it says how much the wall time can be trusted.  Units: s, MiB, ms.
 Engines: each configuration runs under every engine asked for (``engines``: NEURON, CoreNEURON); the per-cell-step
 cost (ns per motoneuron-and-muscle-unit step, per core) puts engines, sizes and rank counts side by side, and when
 both engines ran a configuration their results are compared (``agreement``: spikes, pool force).
+
+The machine's limit: before and after the runs the same host times the motoneuron's fixed-step arithmetic as one
+scalar C loop (``machine_limit``; ``machine_limit_ns``), and each run's cost per cell-step is also given as a
+multiple of it (``times_machine_limit``): on a shared host whose speed changes from hour to hour, that multiple
+compares across days where the wall time does not.
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ import numpy as np
 
 from ..errors import InputError, NeuromuscleError
 from ..pool.mpi import mpi_available, mpiexec_command
+from .machine_limit import PROBE, probe_ns
 from ..pool.definition import FUSED_MUSCLE_MODELS, MUSCLE_MODELS
 from ..pool.motoneuron import CHANNELS, FUSED_CHANNELS
 from ..sim.simulator import ENGINES
@@ -172,6 +178,7 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
         out["agreement"] = []
     from ..pool.result import load_pool_result
 
+    out["machine_limit_ns"] = [probe_ns()]   # the host's speed for the same arithmetic, before and after the runs
     with tempfile.TemporaryDirectory(prefix="neuromuscle-bench-pool.") as tmp:
         for n in units:
             for r in ranks:
@@ -193,7 +200,15 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
                     for engine, other in zip(engines[1:], others):
                         out["agreement"].append({"n_units": n, "ranks": r, "engines": [engines[0], engine],
                                                  **agreement(first, other)})
+    out["machine_limit_ns"].append(probe_ns())
+    limits = [x for x in out["machine_limit_ns"] if x is not None]
+    for rep in out["runs"]:
+        rep["times_machine_limit"] = rep["ns_per_cell_step_per_core"] / float(np.mean(limits)) if limits else None
     return out
+
+
+def _times(x: float | None) -> str:
+    return "n/a" if x is None else f"{x:.1f}"
 
 
 def table_lines(res: dict[str, Any]) -> list[str]:
@@ -203,18 +218,25 @@ def table_lines(res: dict[str, Any]) -> list[str]:
     lines = [f"pools, {res['duration_ms'] / 1000:g} s simulated at dt {res['dt_ms']} ms ({scheme}), {res['drive']} "
              f"drive, muscle {res.get('muscle', 'modules')} (substeps {res.get('substeps', 1)}), motoneuron channels "
              f"{res.get('channels', 'separate')} (PIC gate substeps {res.get('pic_substeps', 1)}), "
-             f"{res.get('nthread', 1)} thread(s)",
-             "", "| N | ranks | engine | wall s | sim s | build s | s per unit-s | ns per cell-step per core | "
-             "peak MiB (largest rank) | spikes | mean / largest rate Hz | load |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             f"{res.get('nthread', 1)} thread(s)"]
+    limits = res.get("machine_limit_ns") or []
+    if any(x is not None for x in limits):
+        lines.append(f"the machine's limit for the motoneuron's arithmetic (its fixed-step update as one scalar C "
+                     f"loop, {PROBE['n']} cells, one core): "
+                     + " before, ".join("n/a" if x is None else f"{x:.0f} ns per cell-step" for x in limits)
+                     + " after the runs")
+    lines += ["", "| N | ranks | engine | wall s | sim s | build s | s per unit-s | ns per cell-step per core | "
+              "x the limit | peak MiB (largest rank) | spikes | mean / largest rate Hz | load |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in res["runs"]:
         lines.append(f"| {r['n_units']} | {r['ranks']} | {r.get('engine', 'neuron')} | {r['wall_s']:.2f} | "
                      f"{r['sim_s']:.2f} | {r['build_s']:.2f} | {r['s_per_unit_s']:.4f} | "
-                     f"{r['ns_per_cell_step_per_core']:.0f} | {r['peak_rss_mib']:.0f} | {r['spikes']} | "
+                     f"{r['ns_per_cell_step_per_core']:.0f} | {_times(r.get('times_machine_limit'))} | "
+                     f"{r['peak_rss_mib']:.0f} | {r['spikes']} | "
                      f"{r.get('mean_rate_hz', float('nan')):.1f} / {r.get('max_rate_hz', float('nan')):.1f} | "
                      f"{r['load_1min_before']:.1f}-{r['load_1min_after']:.1f} |")
     for s in res["skipped"]:
-        lines.append(f"| {s['n_units']} | {s['ranks']} | skipped: {s['reason']} | | | | | | | | | |")
+        lines.append(f"| {s['n_units']} | {s['ranks']} | skipped: {s['reason']} | | | | | | | | | | |")
     if res.get("agreement"):
         lines += ["", "| N | ranks | engines | spikes | identical spikes | units with another count | largest spike "
                       "shift ms | identical forces | pool force diff / peak |", "|---|---|---|---|---|---|---|---|---|"]

@@ -28,7 +28,13 @@ def test_bench_pool_json_keys_and_consistency(capsys):
         assert r["load_1min_before"] >= 0
         assert r["mean_rate_hz"] > 0 and 0 <= r["max_rate_hz"] < 60  # the synaptic drive: human rates
     assert len({r["spikes"] for r in res["runs"]}) == 1  # the same pool whatever the ranks
-    assert len(table_lines(res)) == 4 + len(res["runs"])
+    # the machine's limit, timed before and after the runs, and each run's cost as a multiple of it
+    assert len(res["machine_limit_ns"]) == 2 and all(x > 0 for x in res["machine_limit_ns"])
+    for r in res["runs"]:
+        limit = sum(res["machine_limit_ns"]) / 2
+        assert r["times_machine_limit"] == pytest.approx(r["ns_per_cell_step_per_core"] / limit)
+    lines = table_lines(res)
+    assert len(lines) == 5 + len(res["runs"]) and "the machine's limit" in lines[1] and "x the limit" in lines[3]
 
 
 def test_bench_pool_fused_substeps_reach_the_pool(capsys):
@@ -87,6 +93,6 @@ def test_bench_pool_runs_both_engines_and_compares_them(capsys):
     assert a["engines"] == ["neuron", "coreneuron"] and a["spikes"] == res["runs"][0]["spikes"] > 0
     assert a["spikes_identical"] and a["forces_identical"] and a["pool_force_max_diff_of_peak"] == 0.0
     lines = table_lines(res)
-    assert len(lines) == 4 + 2 + 4 and "coreneuron" in lines[5] and "neuron vs coreneuron" in lines[-1]
+    assert len(lines) == 5 + 2 + 4 and "coreneuron" in lines[6] and "neuron vs coreneuron" in lines[-1]
     with pytest.raises(InputError, match="engines"):
         bench_pool(units=[2], engines=["neuron", "neuron"])
