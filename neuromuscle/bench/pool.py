@@ -128,9 +128,8 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
     membrane steps (None: every MUSCLE_STEP_MS, k = round(0.2 ms / dt)); ``pic_substeps``: the fused channels'
     PIC gate likewise (None: as the muscle's, 1 with the separate channels); ``nthread``: NEURON threads per
     rank; ``channels``: the motoneurons' ("fused_fixed", the default, "fused" or "separate").  The defaults are
-    the fast path:
-    Crank-Nicolson at dt 1/30 ms (DEFAULT_DT_MS), the fused channels with their PIC gate and the fused muscle
-    every 0.2 ms; the errors of each against the reference are in
+    the fast path: Crank-Nicolson at dt 1/30 ms (DEFAULT_DT_MS), the fused channels with their PIC gate and the
+    fused muscle every 0.2 ms, in their fixed-step forms; the errors of each against the reference are in
     docs/validation/speed.md.  ``engines``: "neuron", "coreneuron" or
     both; with both, "agreement" compares their results of each (N, ranks); ``cell_permute``: CoreNEURON's
     layout (1: compartments interleaved, bit-identical to 0 and faster); ``secondorder``: NEURON's fixed-step

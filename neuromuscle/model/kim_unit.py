@@ -51,7 +51,7 @@ class KimUnit(Component):
                  **overrides: float) -> None:
         super().__init__(**overrides)
         if isinstance(substeps, bool) or not isinstance(substeps, int) or substeps < 1:
-            raise InputError(f"KimUnit: substeps must be an integer >= 1, got {substeps!r}")
+            raise InputError(f"{type(self).__name__}: substeps must be an integer >= 1, got {substeps!r}")
         self.length_compensation = bool(length_compensation)
         self.movement_depression = bool(movement_compensation)  # eq 19
         self.lengthening_divisor = bool(movement_compensation)  # eq 20
@@ -68,11 +68,11 @@ class KimUnit(Component):
         missing = [q for p, q in self.qualified_parameters() if p.name not in self.overrides and q not in given]
         if missing:
             raise InputError(f"parameter set {getattr(params, 'name', None)!r} lacks {', '.join(missing)} "
-                             "(needed by KimUnit)")
+                             f"(needed by {type(self).__name__})")
         v = super().values(params)
         if not v["c0"] > -v["P0"]:
-            raise InputError(f"KimUnit: c0 = {v['c0']:g} N must exceed -P0 = {-v['P0']:g} N (eq 11's asymptote "
-                             "(2 + c0/P0) Fc must lie above Fc); give a larger c0")
+            raise InputError(f"{type(self).__name__}: c0 = {v['c0']:g} N must exceed -P0 = {-v['P0']:g} N (eq 11's "
+                             "asymptote (2 + c0/P0) Fc must lie above Fc); give a larger c0")
         return v
 
     @property
