@@ -14,7 +14,9 @@ So every cause the diagnosis names passes every rule against the final model wit
 the others explain.
 
 A cause the forward selection judged by cross-validation over trials (its telling trials all calibrate) is
-judged so here too, on the same split, both models fitted again there.  The trials' noise is estimated from the
+judged so here too, as at its own step: on the same split, the model without it fitted again there and the cause
+fitted on it from its usual starts, its identification (rule R1) read from the final model on every calibration
+trial.  The trials' noise is estimated from the
 final model's residuals, as each forward step estimates it from its model before.
 """
 
@@ -25,7 +27,8 @@ from typing import Sequence
 
 from .evidence import Evidence
 from .models import MODEL_MAX_ITERATIONS, FittedModel, fit_model
-from .selection import Context, Step, crossed, judge, noise_under, refit_on
+from .selection import (Context, Step, candidate_on, crossed, identified_on_every_calibration_trial, judge,
+                        noise_under, refit_on)
 
 
 @dataclass
@@ -72,10 +75,15 @@ def check(ctx: Context, steps: Sequence[Step], name: str, final: FittedModel, rn
     before = without(ctx, final, name)
     key = s.evidence_of(name).crossed
     if key:
+        # as when it was named (selection.judge_crossed): the model with the cause fitted on the split from the
+        # candidate's own starts, so nothing its parameters learnt from the held-out trials carries over, and
+        # its calibration side (R1) from every calibration trial
         sub = crossed(ctx, key)
         ctx.say(f"    {name}: judged with {', '.join(key)} held out as well, as when it was named")
-        ev = judge(sub, name, refit_on(sub, before), refit_on(sub, final), list(key))
+        before_cv = refit_on(sub, before)
+        ev = judge(sub, name, before_cv, candidate_on(sub, s.candidates[name], before_cv), list(key))
         ev.crossed = tuple(key)
+        ev = identified_on_every_calibration_trial(ev, ctx, name, before, final)
     else:
         ev = judge(ctx, name, before, final, s.candidates[name].telling_heldout)
     ctx.say(f"    {name} against {before.name}: {ev.text()}")

@@ -89,10 +89,25 @@ def test_after_a_drop_every_cause_left_is_judged_against_the_new_final_model(mon
 
 def test_a_cause_named_by_cross_validation_is_judged_on_that_split_again(monkeypatch):
     ctx, steps, fits, judged = world(monkeypatch, {}, [["fatigue"], ["b"]], crossed={"fatigue": ("long_train",)})
+    candidates, identified = [], []
+
+    def fake_candidate_on(sub, c, before_cv):
+        candidates.append((c.name, before_cv.name, tuple(sub.calibration)))
+        return fitted(before_cv.extensions + (c.name,))
+
+    def fake_identified(ev, ctx_, name, before, model):
+        identified.append((name, before.name, model.name, tuple(ctx_.calibration)))
+        return ev
+
+    monkeypatch.setattr(pruning, "candidate_on", fake_candidate_on)
+    monkeypatch.setattr(pruning, "identified_on_every_calibration_trial", fake_identified)
     p = prune(ctx, steps)
-    assert judged == [("fatigue", "baseline + b", "baseline + fatigue + b", ("held_train", "long_train"))]
+    assert judged == [("fatigue", "baseline + b", "baseline + b + fatigue", ("held_train", "long_train"))]
     assert fits == [(("b",), ("twitch", "train", "long_train")),   # the final model without fatigue
                     ((), ("twitch", "train")),                     # the baseline without its trial (its excess there)
-                    (("b",), ("twitch", "train")),                 # and both models again without it
-                    (("fatigue", "b"), ("twitch", "train"))]
+                    (("b",), ("twitch", "train"))]                 # the model before, again without it
+    # the cause fitted on the split from its own starts, as when it was named, not the final model refitted there
+    assert candidates == [("fatigue", "baseline + b", ("twitch", "train"))]
+    # and whether it is identified asked of every calibration trial, against the final model without it
+    assert identified == [("fatigue", "baseline + b", "baseline + fatigue + b", ("twitch", "train", "long_train"))]
     assert p.checks[0].evidence.crossed == ("long_train",) and p.named == ["fatigue", "b"]
