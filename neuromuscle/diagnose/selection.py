@@ -242,9 +242,12 @@ def _identified(model: FittedModel, name: str) -> list[str]:
 def _windows(ctx: Context, name: str, before: FittedModel, model: FittedModel,
              telling_heldout: Sequence[str]) -> tuple[dict[str, WindowSamples], dict[str, WindowSamples] | None]:
     """Rule R7's held-out samples of cause ``name`` (module docstring, step 4), and its telling trials' samples
-    when they are quiet under the model before and the cause is judged where it acts instead (else None)."""
+    when they are quiet under the model before and the cause is judged where it acts instead (else None).  Where a
+    cause is defined by the distance from the optimum (length-dependent activation, lengthening below it), the
+    optimum is the candidate's own g1: a model without the cause bends g1 to absorb it, and trials at the true
+    optimum would then count as off it, where the cause changes nothing."""
     ext = extension_class(name)
-    g1 = float(before.parameters["g1"])
+    g1 = float(model.parameters["g1"])
     measured = ctx.measured
     out: dict[str, WindowSamples] = {}
     for i in ctx.heldout:

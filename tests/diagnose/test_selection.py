@@ -3,6 +3,7 @@ candidates are tried together (selection.py, step 6).  The fits themselves are e
 
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 from conftest import evidence
@@ -254,3 +255,29 @@ def test_a_pair_of_candidates_cross_validated_on_different_trials_is_judged_with
     assert [(name, held) for name, _, _, _, held in judged] == [("fatigue", ("long_train",)),
                                                                ("doublet_potentiation", ("train",))]
     assert all(e.crossed == ("long_train", "train") for e in j.evidence.values())
+
+
+def test_where_a_length_cause_is_defined_follows_the_candidates_own_optimum():
+    """Rule R7's window of length-dependent activation (trials more than 2 mm from the optimum): a model before
+    without it has bent g1 towards the long side; the trials at the true optimum are then off its optimum, but
+    the cause is judged where the candidate, which refits g1, puts them."""
+    from neuromuscle.diagnose.phases import describe_all
+    from neuromuscle.synth import extended_protocols
+    from neuromuscle.synth.dataset import _empty_trial
+
+    held = ("twitch_opt", "train3_opt", "twitch_long", "train10_short")
+    trials = {p.trial_id: _empty_trial(p) for p in extended_protocols(-8.0) if p.trial_id in held}
+    phases = describe_all(trials)
+    noise = {i: SimpleNamespace(sd_N=0.1) for i in held}
+    ctx = selection.Context(SimpleNamespace(trials=trials), phases, (), held, noise, None, ())
+    base = load_parameters("CT09")
+
+    def fitted(g1: float) -> SimpleNamespace:
+        return SimpleNamespace(parameters=base.with_values({"g1": g1}), extensions=(),
+                               simulated={i: np.full(t.time_s.size, 5.0) for i, t in trials.items()})
+
+    bent, own = fitted(-4.0), fitted(-8.0)
+    window, quiet = selection._windows(ctx, "length_dependent_activation", bent, own, [])
+    assert quiet is None and set(window) == {"twitch_long", "train10_short"}
+    window, _ = selection._windows(ctx, "length_dependent_activation", own, bent, [])
+    assert set(window) == {"twitch_opt", "train3_opt", "train10_short"}     # judged on the bent optimum
