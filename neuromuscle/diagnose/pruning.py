@@ -16,8 +16,8 @@ the others explain.
 A cause the forward selection judged by cross-validation over trials (its telling trials all calibrate) is
 judged so here too, as at its own step: on the same split, the model without it fitted again there and the cause
 fitted on it from its usual starts, its identification (rule R1) read from the final model on every calibration
-trial.  The trials' noise is estimated from the
-final model's residuals, as each forward step estimates it from its model before.
+trial.  The trials' noise is estimated from the final model's residuals, as each forward step estimates it from
+its model before.
 """
 
 from __future__ import annotations
@@ -75,9 +75,7 @@ def check(ctx: Context, steps: Sequence[Step], name: str, final: FittedModel, rn
     before = without(ctx, final, name)
     key = s.evidence_of(name).crossed
     if key:
-        # as when it was named (selection.judge_crossed): the model with the cause fitted on the split from the
-        # candidate's own starts, so nothing its parameters learnt from the held-out trials carries over, and
-        # its calibration side (R1) from every calibration trial
+        # as selection.judge_crossed does (module docstring)
         sub = crossed(ctx, key)
         ctx.say(f"    {name}: judged with {', '.join(key)} held out as well, as when it was named")
         before_cv = refit_on(sub, before)
