@@ -86,6 +86,13 @@ class _CostSettled(Exception):
 
 #: Iterations over which an absolute cost tolerance is measured.
 COST_WINDOW = 3
+#: A start on a bound is moved 1e-10 of its range inside (trf keeps its iterates strictly inside), and a fit that
+#: continues from another's estimate often starts that close to one.  scipy's trf sizes its first trust region by
+#: the start's distance to the bounds, about 2e-5 in z from there, and can then meet its tolerances at once: a fit
+#: that started within RESTART_MARGIN of its range of a bound and ends converged having moved no coordinate by
+#: more than that is run again from a start RESTART_MARGIN of the range inside, whose first trust region (about
+#: 0.07 in z) is of the problem's scale.  A fit that moved keeps its result.
+RESTART_MARGIN = 1e-3
 
 
 def trust_region_least_squares(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, run_all: RunAll,
@@ -137,12 +144,21 @@ def trust_region_least_squares(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, r
             raise _CostSettled(z)
         return j
 
+    def solve(start: np.ndarray) -> tuple[np.ndarray, str]:
+        sol = least_squares(fun, start, jac=jac, bounds=(lo, hi), method="trf", x_scale=1.0, ftol=tol, xtol=tol,
+                            gtol=tol, max_nfev=max(10 * max_iterations, 50))
+        return np.asarray(sol.x, dtype=float), str(sol.message)
+
     # trf keeps iterates strictly inside the bounds: a start on a bound is nudged inside
     z_in = np.clip(z0, lo + 1e-10 * (hi - lo), hi - 1e-10 * (hi - lo))
+    near_bound = bool(np.any(np.minimum(z0 - lo, hi - z0) <= RESTART_MARGIN * (hi - lo)))
     try:
-        sol = least_squares(fun, z_in, jac=jac, bounds=(lo, hi), method="trf", x_scale=1.0, ftol=tol, xtol=tol,
-                            gtol=tol, max_nfev=max(10 * max_iterations, 50))
-        z, message = np.asarray(sol.x, dtype=float), str(sol.message)
+        z, message = solve(z_in)
+        if near_bound and np.all(np.abs(z - z_in) <= RESTART_MARGIN * (hi - lo)):
+            # stopped where it began (module constant RESTART_MARGIN): started again from inside
+            costs.clear()
+            z, message = solve(np.clip(z0, lo + RESTART_MARGIN * (hi - lo), hi - RESTART_MARGIN * (hi - lo)))
+            message = f"{message} (started again {RESTART_MARGIN:g} of the range inside the bound it stopped by)"
     except _IterationLimit:
         z = monitor.best_z if monitor.best_z is not None else z_in
         message = f"stopped after max_iterations = {max_iterations} iterations (resume to continue)"

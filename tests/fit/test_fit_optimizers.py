@@ -121,3 +121,43 @@ def test_a_cost_tolerance_that_is_not_a_positive_number_is_refused(ct09, twitch_
     problem = FitProblem(twitch_trials[:1], ct09, ["C3"], options=OPTS)
     with pytest.raises(InputError, match="cost_tolerance"):
         fit(problem, progress=False, cost_tolerance=bad)
+
+
+@pytest.mark.parametrize("first, offset", [(1.5, 0.0), (-1.0, 0.0), (1.5, 7e-11)])
+def test_a_fit_that_stops_where_it_began_on_a_bound_is_started_again_from_inside(first, offset):
+    """A linear least-squares problem started on the lower bound of its first parameter (offset 0) or where a
+    previous fit left it, a hair inside (offset, a share of the range): scipy's first trust region is about 2e-5 in
+    z there, and the fit meets its tolerances at once where it began.  It is started again from RESTART_MARGIN
+    inside and reaches the optimum, inside the bounds (first = 1.5) or on the bound it started on (first = -1.0,
+    the optimum beyond it)."""
+    from neuromuscle.fit.optimizers import RESTART_MARGIN
+
+    a = np.random.default_rng(0).normal(size=(40, 4))
+    target = np.array([first, 2.0, -1.0, 0.5])
+
+    def linear(zs):
+        return [100.0 * a @ (z - target) for z in zs]
+
+    lo, hi = np.array([0.0, -5.0, -5.0, -5.0]), np.full(4, 5.0)
+    costs = _Costs()
+    z0 = np.array([offset * (hi - lo)[0], 0.0, 0.0, 0.0])
+    z, message, _ = trust_region_least_squares(z0, lo, hi, linear, costs, "forward", 1e-6, 30, 1e-4)
+    assert "started again" in message and "max_iterations" not in message
+    expected = target.copy()
+    if first < 0:  # the bounded optimum: the first parameter on its bound, the others refitted for it
+        expected[0] = 0.0
+        rest = np.linalg.lstsq(a[:, 1:], a @ target, rcond=None)[0]
+        expected[1:] = rest
+    np.testing.assert_allclose(z, expected, atol=1e-3)
+    assert len(costs.costs) > 2  # it iterated after the start again
+    assert RESTART_MARGIN * (hi - lo)[0] < 0.01
+
+
+def test_a_fit_that_moves_from_a_start_on_a_bound_is_not_started_again():
+    """The restart is for a fit that stopped where it began: one whose first steps move keeps its own result."""
+    costs = _Costs()
+    lo, hi = np.array([-1.2, 0.0]), np.full(2, 5.0)
+    z, message, _ = trust_region_least_squares(np.array([-1.2, 0.0]), lo, hi, _rosenbrock, costs, "forward", 1e-6,
+                                               200, 1e-10)
+    assert "started again" not in message
+    np.testing.assert_allclose(z, [1.0, 1.0], atol=1e-3)
