@@ -24,9 +24,8 @@ def bench_diagnose(workers: int = 2, world: str = "B", cause: str | None = None,
     from ..diagnose import run_diagnosis
     from ..diagnose.baseline import calibrate_baseline
     from ..diagnose.diagnosis import prepare
-    from ..diagnose.models import DT_MS
+    from ..diagnose.models import DIFFERENCE_DT_MS, DT_MS
     from ..diagnose.phases import describe_all
-    from ..diagnose.screening import COLUMN_DT_MS
     from ..fit.evaluate import BATCH_UNITS, PACK_SHARE, TrialPool
     from ..measured import write_measured
     from ..parameters import load_parameters
@@ -49,7 +48,7 @@ def bench_diagnose(workers: int = 2, world: str = "B", cause: str | None = None,
             "n_trials": len(data.trials),
             "workers": workers,
             "simulation": f"fixed step dt {DT_MS} ms, the fits' and the screening's finite differences at "
-                          f"{COLUMN_DT_MS} ms; the runs of each evaluation packed as units of shared NEURON runs "
+                          f"{DIFFERENCE_DT_MS} ms; the runs of each evaluation packed as units of shared NEURON runs "
                           f"(up to {BATCH_UNITS}, trials down to {PACK_SHARE:g} of a run's longest)",
             "baseline_calibration_s": round(t_base, 1), "full_diagnosis_s": round(t_full, 1),
             "named": doc["named"], "target_s": TARGET_S, "within_target": t_full < TARGET_S,

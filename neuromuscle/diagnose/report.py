@@ -32,10 +32,9 @@ from ..reports.markdown import bullets, link, sig, table
 from ..reports.outdir import atomic_path, check_out_dir, prepare_out_dir, write_text
 from .diagnosis import ACTIVE_STRUCTURE_RATIO, Diagnosis, diagnose_data, prepare
 from .evidence import N_BOOTSTRAP, STRUCTURE_RATIO
-from .models import DT_MS, RECORD_DT_MS, FittedModel, extension_class
+from .models import DIFFERENCE_DT_MS, DT_MS, RECORD_DT_MS, FittedModel, extension_class
 from .residuals import VARIABLES
 from .rules import RULES
-from .screening import COLUMN_DT_MS
 from .selection import Candidate, Step
 
 SCHEMA = "neuromuscle.diagnosis/2"
@@ -184,7 +183,7 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
         "settings": {"n_bootstrap": N_BOOTSTRAP, "structure_ratio": STRUCTURE_RATIO,
                      "active_structure_ratio": ACTIVE_STRUCTURE_RATIO},
         "simulation": {"method": "fixed step", "dt_ms": DT_MS, "record_dt_ms": RECORD_DT_MS, "settle_ms": 0.0,
-                       "fit_jacobian": "forward differences at dt_ms", "screening_dt_ms": COLUMN_DT_MS},
+                       "fit_jacobian": "forward differences", "difference_dt_ms": DIFFERENCE_DT_MS},
         "figures": figures, "parameters_file": "params.json", "wall_time_s": d.wall_time_s,
     }
 

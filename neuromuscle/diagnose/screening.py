@@ -19,11 +19,11 @@ by gain minus the BIC penalty p ln N_eff.
 A gain can need a time constant (a parameter with no neutral value) far from its default, so each candidate is
 screened at its defaults and at every combination of its time constants at ``GRID_QUANTILES`` of their ranges
 (:func:`time_constant_settings`), and its best gain counts.  The screen only chooses what to fit; the rules judge.
-The moved runs and one run of the current model are simulated at ``COLUMN_DT_MS``, whose integration error cancels
-in the differences; they go to the worker pool together.  A candidate that acts only where the length moves
-(``Extension.needs_movement``: through a movement or after one) leaves a trial held at a constant length exactly as
-the model has it, so its moved runs simulate only the other trials and take the model's run for those (the same
-numbers: about a third of a screening's runs, most of whose trial time is isometric).
+The moved runs and one run of the current model are simulated at ``.models.DIFFERENCE_DT_MS``, whose integration
+error cancels in the differences; they go to the worker pool together.  A candidate that acts only where the length
+moves (``Extension.needs_movement``: through a movement or after one) leaves a trial held at a constant length
+exactly as the model has it, so its moved runs simulate only the other trials and take the model's run for those
+(the same numbers: about a third of a screening's runs, most of whose trial time is isometric).
 """
 
 from __future__ import annotations
@@ -42,15 +42,11 @@ from ..measured import Trial
 from ..measured.simulation import constant_length
 from ..model.extensions import registry
 from ..parameters import SPECS, ParameterSet
-from .models import simulate_all
+from .models import DIFFERENCE_DT_MS, simulate_all
 from .residuals import Noise
 
 #: The move of an effect parameter from neutral, as a fraction of its range (a secant: effects are not linear).
 STEP_FRACTION = 0.1
-#: The fixed step (ms) of the screening's moved simulations and of the reference they are differenced against
-#: (the diagnosis's is 0.1 ms).  The step's error cancels in the difference: suite seed 3's doublet case screens
-#: within 0.5 % of 0.1 ms at every candidate and setting, in 15 s instead of 27 s.
-COLUMN_DT_MS = 0.2
 #: Quantiles of a time constant's range (log-spaced for a positive range) tried beside its default.
 GRID_QUANTILES = (0.25, 0.75)
 #: The relative move of what every candidate refits (the current model's free parameters).
@@ -142,7 +138,7 @@ def time_constant_settings(ext) -> list[dict[str, float]]:
 def screen_settings(names: Sequence[str], reference: ParameterSet, reference_sims: Mapping[str, np.ndarray],
                     calibration: Sequence[Trial], measured: Mapping[str, np.ndarray], noise: Mapping[str, Noise],
                     options: SimulationOptions, pool: TrialPool | None = None,
-                    column_dt_ms: float | None = COLUMN_DT_MS, refitted: Sequence[str] = (),
+                    column_dt_ms: float | None = DIFFERENCE_DT_MS, refitted: Sequence[str] = (),
                     extensions: tuple[str, ...] = (),
                     subsets: Mapping[str, Sequence[str]] | None = None, model_chi2: float | None = None,
                     at: str = "model") -> list[Screen]:
@@ -175,7 +171,7 @@ def screen_settings(names: Sequence[str], reference: ParameterSet, reference_sim
     r0 = r
     model_sims: Mapping[str, np.ndarray] = reference_sims
     if column_dt_ms is not None:
-        options = replace(options, dt_ms=column_dt_ms, record_dt_ms=None)
+        options = replace(options, dt_ms=column_dt_ms, record_dt_ms=None, differenced=True)
         runs = [(reference, exts)] + runs
     every = [m for m, s in zip(moved, needs_move) if not s]
     done = simulate_runs(runs + every, calibration, options, pool)

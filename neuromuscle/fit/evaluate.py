@@ -54,7 +54,8 @@ class SimulationOptions:
     """How each trial is simulated: fixed step dt_ms (ms), recording interval record_dt_ms (ms; None = dt_ms),
     settling time settle_ms (ms) before the trial's first sample, the model's eq 18 / eqs 19-20 switches, and the
     catalogue extensions switched on (canonical names; their values come from the parameter set by qualified name,
-    e.g. ``fatigue.k``, else their defaults)."""
+    e.g. ``fatigue.k``, else their defaults).  differenced: the forces are only differenced against runs at the
+    same step (finite-difference Jacobians), so dt_ms may be up to ``sim.MAX_DIFFERENCE_DT_MS``."""
 
     dt_ms: float = 0.05
     record_dt_ms: float | None = None
@@ -62,6 +63,7 @@ class SimulationOptions:
     length_compensation: bool = True
     movement_compensation: bool = False
     extensions: tuple[str, ...] = ()
+    differenced: bool = False
 
 
 def packs(durations: Sequence[float], max_units: int, share: float | None = None) -> list[list[int]]:
@@ -115,7 +117,8 @@ def simulate_pairs(pairs: Sequence[tuple[ParameterSet, Trial, SimulationOptions]
             [(pairs[c][0], {name: {} for name in pairs[c][2].extensions} or None, index[id(pairs[c][1])])
              for c in pack], protocols,
             excitation=kim_fused(opts.length_compensation, opts.movement_compensation), record=("muscle.F",),
-            dt_ms=opts.dt_ms, record_dt_ms=opts.dt_ms if opts.record_dt_ms is None else opts.record_dt_ms)
+            dt_ms=opts.dt_ms, record_dt_ms=opts.dt_ms if opts.record_dt_ms is None else opts.record_dt_ms,
+            differenced=opts.differenced)
         for c, res in zip(pack, results):
             t_ms = clocks[(id(pairs[c][1]), opts.settle_ms)][0]
             out[c] = None if res is None else np.interp(t_ms, res.t_ms, res.force_N)

@@ -18,7 +18,7 @@ import numpy as np
 from ..errors import InputError, NumericalError
 from ..analysis.metrics import nrmse_percent
 from ..parameters import SPECS, ParameterSet
-from ..sim.simulator import MAX_DT_MS
+from ..sim.simulator import MAX_DIFFERENCE_DT_MS
 from .checkpoint import Tracker, read_checkpoint
 from .evaluate import MapFn, SimulationOptions, TrialPool, batched_residuals, candidate_map, evaluate_candidate
 from .intervals import INTERVAL_METHODS, fit_uncertainty
@@ -184,10 +184,11 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     fd, fd_step: finite differences (:func:`.optimizers.fd_jacobian`).  ident_rcond, max_rel_se: the
     identifiability flags (``Rules.for_fit``).  intervals: how the 95 % intervals are made, one of
     ``INTERVAL_METHODS`` (:mod:`.intervals`; the default adds one simulation of every trial at half the step).
-    jacobian_dt_ms: the fixed step (ms) of the least-squares Jacobian's runs, its base point run again at that step
-    (None: the problem's own step).  The step's error cancels in the differences, so a coarser step makes the
-    Jacobian cheaper at little cost in accuracy; every residual the optimiser minimises, the best point, the
-    cost and the forces returned stay at the problem's step.  The intervals use the last Jacobian.
+    jacobian_dt_ms: the fixed step (ms, at most ``sim.MAX_DIFFERENCE_DT_MS``) of the least-squares Jacobian's runs,
+    its base point run again at that step (None: the problem's own step).  The step's error cancels in the
+    differences, so a coarser step makes the Jacobian cheaper at little cost in accuracy; every residual the
+    optimiser minimises, the best point, the cost and the forces returned stay at the problem's step.  The intervals
+    use the last Jacobian.
     final_jacobian: False for a fit that another continues from its estimate when it stops at ``max_iterations``
     (e.g. starts raced for a few iterations): a fit stopped there ends at a point whose Jacobian was not yet made,
     and none is made for its intervals (a Jacobian costs one run of every trial per free parameter); its
@@ -206,8 +207,8 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
     if not (isinstance(workers, int) and workers >= 1):
         raise InputError(f"workers must be an integer >= 1, got {workers!r}")
     if jacobian_dt_ms is not None and not (isinstance(jacobian_dt_ms, (int, float))
-                                           and 0 < jacobian_dt_ms <= MAX_DT_MS):
-        raise InputError(f"jacobian_dt_ms must be a fixed step in ms, > 0 and <= {MAX_DT_MS}, got "
+                                           and 0 < jacobian_dt_ms <= MAX_DIFFERENCE_DT_MS):
+        raise InputError(f"jacobian_dt_ms must be a fixed step in ms, > 0 and <= {MAX_DIFFERENCE_DT_MS}, got "
                          f"{jacobian_dt_ms!r}")
     if sum((map_fn is not None, workers > 1, pool is not None)) > 1:
         raise InputError("give one of map_fn, workers > 1 and pool, not several")
@@ -229,7 +230,7 @@ def fit(problem: FitProblem, method: str = "least_squares", map_fn: MapFn | None
         jacobian_run_all: Callable[[list[np.ndarray]], list[np.ndarray]] | None = None
         if jacobian_dt_ms is not None:
             coarse = residuals_of(problem.with_options(replace(problem.options, dt_ms=float(jacobian_dt_ms),
-                                                               record_dt_ms=None)))
+                                                               record_dt_ms=None, differenced=True)))
 
             def run_coarse(zs: list[np.ndarray]) -> list[np.ndarray]:
                 tracker.n_sim += len(zs) * len(problem.trials)  # counted, never the best point (another step)

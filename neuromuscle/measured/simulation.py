@@ -20,7 +20,7 @@ from ..errors import InputError
 from ..model.kim import kim_excitation
 from ..parameters import ParameterSet
 from ..protocols import LengthTrace
-from ..sim import simulate
+from ..sim import Simulator, simulate
 from ..sim.unit import Model
 from .schema import Trial
 
@@ -69,17 +69,19 @@ def trial_simulation(params: ParameterSet, trial: Trial, dt_ms: float = 0.05, *,
                      record_dt_ms: float | None = None, settle_ms: float = 500.0,
                      length_compensation: bool = True, movement_compensation: bool = False,
                      extensions: tuple[str, ...] = (), excitation: Model = None,
-                     contraction: Model = None) -> np.ndarray:
+                     contraction: Model = None, differenced: bool = False) -> np.ndarray:
     """Simulated force (N) of a measured trial at the trial's own time points (``trial.time_s``, s).
 
     The trial's time_s[0] is placed at settle_ms (ms) of simulated time; the length (constant or played) is
     held at its first value before that.  Stimulus times (s) are converted to ms on the same clock.
     extensions: canonical names of catalogue extensions to switch on, valued from ``params``.
     excitation/contraction: as ``MuscleUnit`` (default: Kim Modules 1-2 with the two switches, Module 3).
+    differenced: the force is only differenced against a run at the same step (``Simulator.differenced``).
     """
     t_ms, duration_ms, spikes_ms, length = trial_clock(trial, settle_ms)
     rec = dt_ms if record_dt_ms is None else record_dt_ms
-    res = simulate(params, spikes_ms, length, duration_ms, dt_ms=dt_ms, record_dt_ms=rec, record=("force.F",),
+    res = simulate(params, spikes_ms, length, duration_ms, record_dt_ms=rec, record=("force.F",),
+                   simulator=Simulator(method="fixed", dt_ms=dt_ms, differenced=differenced),
                    excitation=kim_excitation(length_compensation, movement_compensation) if excitation is None
                    else excitation, contraction=contraction,
                    extensions={name: {} for name in extensions} or None)

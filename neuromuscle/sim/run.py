@@ -96,7 +96,7 @@ Protocol = tuple[Iterable[float], LengthTrace | float, float]
 def simulate_protocols(runs: Sequence[tuple[ParameterSet, Mapping[str, Mapping[str, float]] | None, int]],
                        protocols: Sequence[Protocol], *, excitation: Model = None, contraction: Model = None,
                        record: Sequence[str] | None = None, record_dt_ms: float = 0.1,
-                       dt_ms: float = Simulator.dt_ms, initial_state: str = "rest"
+                       dt_ms: float = Simulator.dt_ms, initial_state: str = "rest", differenced: bool = False
                        ) -> list[SimulationResult | None]:
     """Several protocols, each under one or more (parameter set, extensions) runs, simulated together as the units
     of one fixed-step NEURON run to the longest protocol's duration.  Run k is (parameter set, extensions or None,
@@ -108,8 +108,9 @@ def simulate_protocols(runs: Sequence[tuple[ParameterSet, Mapping[str, Mapping[s
     keeps its samples up to its own end (the fixed step's states at those times do not depend on when the run
     stops).  Packing the runs of several protocols into one NEURON run shares NEURON's per-step cost of each
     mechanism type where each protocol alone would have few units.  A unit whose run fails numerically gives None;
-    the others are unaffected."""
-    sim = Simulator(method="fixed", dt_ms=dt_ms)
+    the others are unaffected.  differenced: the forces are only differenced against runs at the same step
+    (``Simulator.differenced``: a coarser step is accepted)."""
+    sim = Simulator(method="fixed", dt_ms=dt_ms, differenced=differenced)
     runs = list(runs)
     checked = [_checked_protocol(s, x, d, record_dt_ms, sim) for s, x, d in protocols]
     for k, run in enumerate(runs):

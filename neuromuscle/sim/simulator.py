@@ -33,6 +33,10 @@ from ..validate import positive_number
 #: Largest fixed step (ms) accepted.  The linearly implicit scheme stays stable beyond it, but the release
 #: kernel (tau1 = 3 ms) and spike timing are resolved only below it: larger steps are refused, not tolerated.
 MAX_DT_MS = 0.2
+#: Largest fixed step (ms) of a run whose forces are only differenced against another run at the same step (a
+#: finite-difference Jacobian's columns): the step's error is nearly the same in both and cancels in the
+#: difference, so such a run may take a coarser step than a result (``Simulator.differenced``).
+MAX_DIFFERENCE_DT_MS = 0.4
 
 #: CVODE's default wall-time budget (s) of one run: this much plus DEFAULT_BUDGET_S_PER_S per simulated second.
 #: A CT09 unit takes about 0.05 s per simulated second under CVODE; the budget is three orders of magnitude more.
@@ -121,8 +125,10 @@ class Simulator:
     ignore it).  ``secondorder``: NEURON's h.secondorder under the fixed step, 0 (backward Euler, first order in
     dt) or 2 (Crank-Nicolson for the membrane, second order; 1 is its variant without the ionic-current
     correction).  The muscle's mechanisms give the same numbers under each (they do not depend on v), a
-    motoneuron's discharges converge faster with 2 (docs/validation/speed.md).  The run uses these values whatever
-    the caller set in NEURON, and restores the caller's after it."""
+    motoneuron's discharges converge faster with 2 (docs/validation/speed.md).  ``differenced``: the run's forces
+    are only differenced against a run at the same step (a finite-difference Jacobian), so its fixed step may be
+    up to ``MAX_DIFFERENCE_DT_MS`` instead of ``MAX_DT_MS``.  The run uses these values whatever the caller set in
+    NEURON, and restores the caller's after it."""
 
     method: str = "fixed"
     dt_ms: float = 0.025
@@ -140,6 +146,7 @@ class Simulator:
     cell_permute: int = 1
     condition_order: int = 1
     secondorder: int = 0
+    differenced: bool = False
 
     def __post_init__(self) -> None:
         if self.method not in ("fixed", "cvode"):
@@ -163,9 +170,11 @@ class Simulator:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
                 raise InputError(f"{name} must be finite and > 0, got {v!r}")
-        if self.method == "fixed" and self.dt_ms > MAX_DT_MS:
-            raise InputError(f"dt_ms = {self.dt_ms} ms is too large for the fixed-step scheme (maximum "
-                             f"{MAX_DT_MS} ms: the 3 ms release kernel must be resolved); give a smaller dt_ms")
+        limit = MAX_DIFFERENCE_DT_MS if self.differenced else MAX_DT_MS
+        if self.method == "fixed" and self.dt_ms > limit:
+            why = ("for runs that are only differenced" if self.differenced else
+                   "for the fixed-step scheme (the 3 ms release kernel must be resolved)")
+            raise InputError(f"dt_ms = {self.dt_ms} ms is too large {why}: maximum {limit} ms; give a smaller dt_ms")
         if isinstance(self.nthread, bool) or not isinstance(self.nthread, int) or self.nthread < 1:
             raise InputError(f"nthread must be an integer >= 1, got {self.nthread!r}")
         if self.max_wall_s is not None and self.max_wall_s != -1.0 and not (self.max_wall_s > 0):

@@ -9,6 +9,7 @@ import pytest
 from neuromuscle import InputError, LengthTrace, MuscleUnit, mechanism_hash, simulate
 from neuromuscle.protocols import constant_rate, twitch
 from neuromuscle.sim import load_result
+from neuromuscle.sim.simulator import MAX_DIFFERENCE_DT_MS, MAX_DT_MS
 from neuromuscle import Simulator, kim_excitation
 
 
@@ -113,6 +114,17 @@ def test_bad_run_input_is_refused_before_neuron_runs(ct09, kwargs, match):
     spikes, length, dur = args.pop("spikes_ms"), args.pop("length"), args.pop("duration_ms")
     with pytest.raises(InputError, match=match):
         simulate(ct09, spikes, length, dur, **args)
+
+
+def test_a_run_that_is_only_differenced_may_take_a_coarser_step():
+    """MAX_DT_MS bounds a result's step; a run whose forces are only differenced may take up to
+    MAX_DIFFERENCE_DT_MS, and no more."""
+    with pytest.raises(InputError, match="too large for the fixed-step scheme"):
+        Simulator(method="fixed", dt_ms=MAX_DIFFERENCE_DT_MS)
+    assert Simulator(method="fixed", dt_ms=MAX_DIFFERENCE_DT_MS, differenced=True).dt_ms == MAX_DIFFERENCE_DT_MS
+    with pytest.raises(InputError, match="too large for runs that are only differenced"):
+        Simulator(method="fixed", dt_ms=1.5 * MAX_DIFFERENCE_DT_MS, differenced=True)
+    assert MAX_DT_MS < MAX_DIFFERENCE_DT_MS
 
 
 def test_bad_length_traces_are_refused():
