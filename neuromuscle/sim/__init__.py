@@ -6,9 +6,9 @@ several protocols in one run."""
 from .recordings import Recorder
 from .results import SimulationResult, load_result, save_result
 from .run import default_recordings, simulate, simulate_batch, simulate_protocols
-from .simulator import MAX_DT_MS, Simulator
+from .simulator import MAX_DIFFERENCE_DT_MS, MAX_DT_MS, Simulator
 from .unit import CONTRACTIONS, EXCITATIONS, MuscleUnit
 
-__all__ = ["CONTRACTIONS", "EXCITATIONS", "MAX_DT_MS", "MuscleUnit", "Recorder", "SimulationResult", "Simulator",
-           "default_recordings", "load_result", "save_result", "simulate", "simulate_batch",
-           "simulate_protocols"]
+__all__ = ["CONTRACTIONS", "EXCITATIONS", "MAX_DIFFERENCE_DT_MS", "MAX_DT_MS", "MuscleUnit", "Recorder",
+           "SimulationResult", "Simulator", "default_recordings", "load_result", "save_result", "simulate",
+           "simulate_batch", "simulate_protocols"]

@@ -170,6 +170,8 @@ class Simulator:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
                 raise InputError(f"{name} must be finite and > 0, got {v!r}")
+        if not isinstance(self.differenced, bool):
+            raise InputError(f"differenced must be True or False, got {self.differenced!r}")
         limit = MAX_DIFFERENCE_DT_MS if self.differenced else MAX_DT_MS
         if self.method == "fixed" and self.dt_ms > limit:
             why = ("for runs that are only differenced" if self.differenced else
@@ -204,6 +206,8 @@ class Simulator:
             out["condition_order"] = self.condition_order
         if self.secondorder:
             out["secondorder"] = self.secondorder
+        if self.differenced:
+            out["differenced"] = True
         if self.engine != "neuron":
             out["engine"] = self.engine
             out["cell_permute"] = self.cell_permute

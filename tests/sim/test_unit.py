@@ -9,7 +9,7 @@ import pytest
 from neuromuscle import InputError, LengthTrace, MuscleUnit, mechanism_hash, simulate
 from neuromuscle.protocols import constant_rate, twitch
 from neuromuscle.sim import load_result
-from neuromuscle.sim.simulator import MAX_DIFFERENCE_DT_MS, MAX_DT_MS
+from neuromuscle.sim import MAX_DIFFERENCE_DT_MS, MAX_DT_MS
 from neuromuscle import Simulator, kim_excitation
 
 
@@ -125,6 +125,10 @@ def test_a_run_that_is_only_differenced_may_take_a_coarser_step():
     with pytest.raises(InputError, match="too large for runs that are only differenced"):
         Simulator(method="fixed", dt_ms=1.5 * MAX_DIFFERENCE_DT_MS, differenced=True)
     assert MAX_DT_MS < MAX_DIFFERENCE_DT_MS
+    with pytest.raises(InputError, match="differenced must be True or False"):
+        Simulator(method="fixed", dt_ms=0.1, differenced="yes")
+    assert Simulator(method="fixed", dt_ms=0.1, differenced=True).settings()["differenced"] is True
+    assert "differenced" not in Simulator(method="fixed", dt_ms=0.1).settings()
 
 
 def test_bad_length_traces_are_refused():
