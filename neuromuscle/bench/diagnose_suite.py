@@ -145,10 +145,18 @@ def judge_case(case: SuiteCase, named: Sequence[str], passed: Sequence[str]) -> 
             "both_named": (all(hits.values()) if len(case.effects) == 2 else None)}
 
 
+#: The counts of each world's summary in :func:`score`.
+WORLD_COUNTS = ("hidden_causes", "hidden_named", "files_with_a_wrong_name", "nulls", "false_alarms",
+                "two_effect_files", "both_named")
+
+
 def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
-    """Hit rates per world and cause and overall, false alarms on the nulls, wrong names, two-effect files with
-    both causes named, from the per-case results (each with "world", "effects" and "score")."""
+    """Hit rates per world and cause, per world (``worlds``: hidden causes named, files with a wrong name, false
+    alarms, two-effect files with both causes named), per cause over the worlds (``causes``) and overall, from the
+    per-case results (each with "world", "effects" and "score")."""
     per: dict[str, dict[str, dict[str, int]]] = {}
+    worlds: dict[str, dict[str, int]] = {}
+    causes: dict[str, dict[str, int]] = {}
     nulls = fa = wrong_files = effects_files = 0
     pairs = both = 0
     for r in results:
@@ -156,6 +164,13 @@ def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
             continue
         s = r["score"]
         w = per.setdefault(r["world"], {})
+        ws = worlds.setdefault(r["world"], dict.fromkeys(WORLD_COUNTS, 0))
+        ws["hidden_causes"] += len(s["hits"])
+        ws["hidden_named"] += sum(map(bool, s["hits"].values()))
+        for n, hit in s["hits"].items():
+            c = causes.setdefault(n, {"n": 0, "hits": 0})
+            c["n"] += 1
+            c["hits"] += int(hit)
         for n, hit in s["hits"].items():
             p = w.setdefault(n, {"n": 0, "hits": 0})
             p["n"] += 1
@@ -171,15 +186,20 @@ def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
         if not r["effects"]:
             nulls += 1
             fa += int(s["false_alarm"])
+            ws["nulls"] += 1
+            ws["false_alarms"] += int(s["false_alarm"])
             p = w.setdefault(NULL_ROW, {"n": 0, "hits": 0})
             p["n"] += 1
             p["hits"] += int(not s["false_alarm"])
         else:
             effects_files += 1
             wrong_files += int(bool(s["wrong_names"]))
+            ws["files_with_a_wrong_name"] += int(bool(s["wrong_names"]))
         if s["both_named"] is not None:
             pairs += 1
             both += int(s["both_named"])
+            ws["two_effect_files"] += 1
+            ws["both_named"] += int(s["both_named"])
     hidden = [(n, hit) for r in results if not r.get("error") for n, hit in r["score"]["hits"].items()]
 
     def pct(a: int, b: int) -> float | None:
@@ -187,6 +207,8 @@ def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
 
     return {"per_world": {w: {c: {**p, "hit_rate_pct": pct(p["hits"], p["n"])} for c, p in cs.items()}
                           for w, cs in per.items()},
+            "worlds": {w: {**c, "hit_rate_pct": pct(c["hidden_named"], c["hidden_causes"])} for w, c in worlds.items()},
+            "causes": {n: {**c, "hit_rate_pct": pct(c["hits"], c["n"])} for n, c in sorted(causes.items())},
             "hidden_causes": len(hidden), "hidden_named": sum(h for _, h in hidden),
             "hit_rate_pct": pct(sum(h for _, h in hidden), len(hidden)),
             "nulls": nulls, "false_alarms": fa, "false_alarm_rate_pct": pct(fa, nulls),
@@ -331,11 +353,21 @@ def score_journals(paths: Sequence[str]) -> dict[str, Any]:
 
 
 def table_lines(res: dict[str, Any]) -> list[str]:
-    """The suite's result as Markdown: per world and cause, n, hits and hit rate; then the overall rates."""
+    """The suite's result as Markdown: per world and cause, n, hits and hit rate; per world; per cause over the
+    worlds; then the overall rates."""
     lines = ["| world | cause | n | named | rate % |", "|---|---|---|---|---|"]
     for w, cs in res["per_world"].items():
         for c, p in cs.items():
             lines.append(f"| {w} | {c} | {p['n']} | {p['hits']} | {p['hit_rate_pct']} |")
+    lines += ["", "| world | causes named | rate % | files with a wrong name | false alarms / nulls | both named / "
+                  "two-effect files |", "|---|---|---|---|---|---|"]
+    for w, c in res["worlds"].items():
+        lines.append(f"| {w} | {c['hidden_named']} of {c['hidden_causes']} | {c['hit_rate_pct']} | "
+                     f"{c['files_with_a_wrong_name']} | {c['false_alarms']} / {c['nulls']} | "
+                     f"{c['both_named']} / {c['two_effect_files']} |")
+    lines += ["", "| cause (every world) | n | named | rate % |", "|---|---|---|---|"]
+    for n, c in res["causes"].items():
+        lines.append(f"| {n} | {c['n']} | {c['hits']} | {c['hit_rate_pct']} |")
     lines += ["", f"hidden causes named {res['hidden_named']} of {res['hidden_causes']} ({res['hit_rate_pct']} %); "
                   f"false alarms {res['false_alarms']} of {res['nulls']} nulls; files with a wrong name "
                   f"{res['files_with_a_wrong_name']}; both causes named in {res['both_named']} of "

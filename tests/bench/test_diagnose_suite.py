@@ -86,6 +86,14 @@ def test_score_counts_hits_false_alarms_wrong_names_and_pairs():
     assert "false alarms 1 of 3 nulls" in table_lines(s)[-1]
     assert s["per_world"]["B"][NULL_ROW] == {"n": 2, "hits": 1, "hit_rate_pct": 50.0}
     assert s["per_world"]["A"][NULL_ROW]["hits"] == 1  # eq 18 alone is right in an eq-18 world
+    assert s["worlds"]["B"] == {"hidden_causes": 5, "hidden_named": 2, "hit_rate_pct": 40.0,
+                                "files_with_a_wrong_name": 1, "nulls": 2, "false_alarms": 1,
+                                "two_effect_files": 1, "both_named": 0}
+    assert s["worlds"]["A"]["nulls"] == 1 and s["worlds"]["A"]["false_alarms"] == 0
+    assert s["causes"] == {"fatigue": {"n": 2, "hits": 1, "hit_rate_pct": 50.0},
+                           "staircase": {"n": 3, "hits": 1, "hit_rate_pct": 33.3}}
+    lines = table_lines(s)
+    assert "| B | 2 of 5 | 40.0 | 1 | 1 / 2 | 0 / 1 |" in lines and "| staircase | 3 | 1 | 33.3 |" in lines
 
 
 def _record(world, names, named, seed):
