@@ -168,13 +168,9 @@ def score(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
         ws["hidden_causes"] += len(s["hits"])
         ws["hidden_named"] += sum(map(bool, s["hits"].values()))
         for n, hit in s["hits"].items():
-            c = causes.setdefault(n, {"n": 0, "hits": 0})
-            c["n"] += 1
-            c["hits"] += int(hit)
-        for n, hit in s["hits"].items():
-            p = w.setdefault(n, {"n": 0, "hits": 0})
-            p["n"] += 1
-            p["hits"] += int(hit)
+            for p in (w.setdefault(n, {"n": 0, "hits": 0}), causes.setdefault(n, {"n": 0, "hits": 0})):
+                p["n"] += 1
+                p["hits"] += int(hit)
         for n, hit in s["background_named"].items():
             p = w.setdefault(f"{n} (background)", {"n": 0, "hits": 0})
             p["n"] += 1
