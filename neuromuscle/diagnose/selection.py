@@ -12,10 +12,13 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    that rank the candidates are not those that carry the held-out error); and, while none passes, every candidate
    that refits the force-length parameters and beats its penalty is fitted whatever its rank
    (:func:`trades_off_with_length`);
-3. **fit** (:func:`.models.fit_model`): M plus the candidate, the candidate's own parameters and the baseline
-   parameters it interacts with free (:func:`refitted`), from M and from M with those baseline parameters put back
-   at the base set's values; a fit that ends above M's calibration chi-square (worse than the model it contains)
-   is fitted again from M itself, the extension neutral (:func:`fit_candidate`);
+3. **fit** (:func:`.models.fit_model`): M plus the candidate, free in the candidate's own parameters, in those of
+   the causes already named and in the baseline parameters any of them interacts with (:func:`refitted`), so that a
+   named cause which took up part of the candidate's effect gives it back (eq 18 fitted first takes up part of
+   lengthening below the optimum through its length dependence) and the candidate is judged against the best model
+   that contains it; from M and from M with the candidate's baseline parameters put back at the base set's values;
+   a fit that ends above M's calibration chi-square (worse than the model it contains) is fitted again from M
+   itself, the extension neutral (:func:`fit_candidate`);
 4. **evidence** (:mod:`.evidence`) on the held-out trials against M, and the rules (:mod:`.rules`).  Where the
    cause is judged (R7): its telling held-out trials, or the held-out samples where its fitted extension changes
    the force by more than ``ACTS_SD`` noise sd when no held-out trial is of its kind (in a pair of step 6) or, as
@@ -36,10 +39,10 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    R0, R2, R4) and fails another rule: a second cause in the data can make the first one's held-out gain uneven
    (better where one acts, worse where the other does) and the second one's fit alone lands on the first one's
    misfit.  The material candidate and a second one (the fitted candidate with the best score among those beyond
-   noise, else the best-screened one) are fitted together (the baseline parameters either interacts with free,
-   from each one's own fit), and each is judged against the model with the other alone, by every rule (by
-   cross-validation over trials, as in step 4, when either was judged so alone).  When both pass, both are named
-   at this step, the material one first.
+   noise, else the best-screened one) are fitted together (with the causes already named and the baseline
+   parameters any of them interacts with free, from each one's own fit), and each is judged against the model
+   with the other alone, by every rule (by cross-validation over trials, as in step 4, when either was judged so
+   alone).  When both pass, both are named at this step, the material one first.
 
 The search ends when no candidate passes, none is left, or after ``MAX_STEPS`` causes.  Each step estimates the
 trials' noise again from the residuals of the model it starts from (:func:`noise_under`).
@@ -313,9 +316,9 @@ def fit_candidate(ctx: Context, name: str, before: FittedModel, screened: Screen
     again from the model before itself, the extension at its neutral values, and the better fit is kept: a
     candidate is never judged worse than a model it contains."""
     ext = extension_class(name)
-    fit = dict(extensions=before.extensions + (name,), baseline_free=refitted(ctx, name),
+    fit = dict(extensions=before.extensions + (name,), baseline_free=refitted(ctx, name, *before.extensions),
                calibration=ctx.calibration_trials, all_trials=ctx.trials, noise=ctx.noise, pool=ctx.pool,
-               fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE, phases=ctx.phases)
+               tolerance=CANDIDATE_TOLERANCE, phases=ctx.phases)
     model = fit_model(starts=_starts(ctx, name, before, screened), **fit)
     floor = calibration_chi2(ctx, before.simulated)
     if model.cost <= floor:
@@ -362,12 +365,12 @@ def trades_off_with_length(ctx: Context, name: str) -> bool:
     return bool(set(LENGTH_PARAMETERS) & set(refitted(ctx, name)))
 
 
-def refitted(ctx: Context, name: str) -> tuple[str, ...]:
-    """The baseline parameters candidate ``name``'s fit refits beside its own: those it interacts with
-    (``Extension.interacts``) among the baseline's free ones.  The model before it is fitted in all of them, so
-    the others stand near their optimum; the candidate's gain is, if anything, underestimated."""
-    ext = extension_class(name)
-    return tuple(n for n in ctx.baseline_free if n in ext.interacts)
+def refitted(ctx: Context, *names: str) -> tuple[str, ...]:
+    """The baseline parameters a fit of the causes ``names`` refits beside their own: those any of them interacts
+    with (``Extension.interacts``) among the baseline's free ones.  The model before it is fitted in all of them,
+    so the others stand near their optimum; the candidate's gain is, if anything, underestimated."""
+    interacts = {p for n in names for p in extension_class(n).interacts}
+    return tuple(n for n in ctx.baseline_free if n in interacts)
 
 
 def _screens_from_the_base_length(ctx: Context, before: FittedModel, names: Sequence[str]) -> dict[str, Screen]:
@@ -536,16 +539,15 @@ def pair_for(s: Step) -> tuple[Candidate, Candidate] | None:
 
 def fit_together(ctx: Context, before: FittedModel, alone: Mapping[str, FittedModel]) -> FittedModel:
     """``before`` plus the two causes of ``alone`` (name -> that cause's model alone on ``before``), fitted together
-    on ``ctx``'s calibration trials: the baseline parameters either interacts with free, from each one's own fit
-    with the other's extension parameters added."""
+    on ``ctx``'s calibration trials: the causes named before them and the baseline parameters any of them
+    interacts with free, from each one's own fit with the other's extension parameters added."""
     (a, ma), (b, mb) = alone.items()
-    free = tuple(dict.fromkeys(refitted(ctx, a) + refitted(ctx, b)))
+    free = refitted(ctx, a, b, *before.extensions)
     own = {n: {q: m.parameters[q] for q in extension_defaults(n)} for n, m in alone.items()}
     starts = {f"{a} model": ma.parameters.with_values(own[b]), f"{b} model": mb.parameters.with_values(own[a])}
     ctx.say(f"  fitting {before.name} + {a} + {b} together")
     return fit_model(before.extensions + (a, b), free, starts, ctx.calibration_trials, ctx.trials, ctx.noise,
-                     pool=ctx.pool, fixed_extensions=before.extensions, tolerance=CANDIDATE_TOLERANCE,
-                     phases=ctx.phases)
+                     pool=ctx.pool, tolerance=CANDIDATE_TOLERANCE, phases=ctx.phases)
 
 
 def joint(ctx: Context, s: Step) -> Joint | None:

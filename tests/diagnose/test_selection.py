@@ -134,6 +134,30 @@ def test_a_candidate_whose_fit_ends_above_the_model_it_contains_is_fitted_again_
         assert got.cost == first_cost
 
 
+def test_a_later_candidate_is_fitted_with_the_causes_named_before_it_free(monkeypatch):
+    """Judged against the best model that contains it: at a later step the candidate's fit also frees the causes
+    already named (none of their parameters in ``fixed_extensions``) and the baseline parameters any of them
+    interacts with, so a named cause that took up part of the candidate's effect gives it back."""
+    calls: list[dict] = []
+
+    def fake_fit(extensions, baseline_free, starts, *args, **kwargs):
+        calls.append(dict(extensions=tuple(extensions), free=tuple(baseline_free), **kwargs))
+        return SimpleNamespace(cost=90.0)
+
+    monkeypatch.setattr(selection, "fit_model", fake_fit)
+    monkeypatch.setattr(selection, "calibration_chi2", lambda ctx, simulated: 100.0)
+    before = SimpleNamespace(name="baseline + length_dependent_activation", extensions=("length_dependent_activation",),
+                             simulated={}, parameters=load_parameters("CT09"))
+    ctx = SimpleNamespace(baseline=before, baseline_free=("g1", "g2", "P0", "KSE"), calibration_trials=[], trials=[],
+                          noise={}, pool=None, phases={}, base=load_parameters("CT09"), say=lambda text: None)
+    selection.fit_candidate(ctx, "lengthening_below_optimum", before, None)
+    (call,) = calls
+    assert call["extensions"] == ("length_dependent_activation", "lengthening_below_optimum")
+    assert not call.get("fixed_extensions")
+    assert set(call["free"]) == {"g1", "g2", "P0", "KSE"}  # eq 18's Module 3 beside the candidate's KSE
+    assert selection.refitted(ctx, "lengthening_below_optimum") == ("KSE",)
+
+
 def test_a_candidate_whose_telling_trials_all_calibrate_is_judged_with_them_held_out(monkeypatch):
     """Cross-validation over trials: the model before is fitted again without the candidate's telling trials (once
     for every candidate with the same ones), the candidate is fitted from that refit, and both are judged with those
