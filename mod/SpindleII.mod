@@ -42,4 +42,8 @@ FUNCTION rate_now() (/s) {
     rate_now = kd*(xm - xref)/dref + ke*fus + r0
 }
 
+PROCEDURE receptor_initial() {
+    : no state of its own
+}
+
 INCLUDE "afferent_encoder.inc"

@@ -1,20 +1,28 @@
-TITLE TendonOrganIb: Golgi tendon organ (group Ib) afferent, Prochazka's rate equation
+TITLE TendonOrganIb: Golgi tendon organ (group Ib) afferent, Lin & Crago's model
 
 COMMENT
-A Golgi tendon organ (group Ib afferent): a force receptor in series with the muscle fibres, its rate (/s)
-proportional to the force they pull with:
+A Golgi tendon organ (group Ib afferent): a force receptor in series with the muscle fibres.  Its rate (/s) is the
+model of Lin & Crago (2002, Ann Biomed Eng 30:54-67), built for the decerebrate cat soleus stretch reflex: a
+logarithm of the muscle's force, passed through second-order linear dynamics of unit steady gain,
 
-    rate = kf F/fmax + r0          (/s)
+    x = g1 ln(Fm/g2 + 1)                                         (/s)
+    rate = H(s) x,   H(s) = (1.7 s^2 + 2.58 s + 0.4) / (s^2 + 2.2 s + 0.4)   (s in /s)
 
-F (N): the force of the muscle unit it reads; fmax (N): the force the rate is scaled by (the unit's maximal
-force, set from Python).  Defaults: kf = 333 /s, r0 = 0 /s.  The rate is held at 0 or above
-(afferent_encoder.inc).  The gain 333 /s is the one quoted for Prochazka's tendon organ model (Prochazka 1999,
-Prog Brain Res 123:133-142); no published source of it, nor of its units, was found: treat it as a placeholder.
-The published tendon organ rate models checked (Lin & Crago 2002; Mileusnic & Loeb 2006), and why neither replaces
-it, are listed in the pools guide (docs/guide/pools.md).
-For scale: a soleus tendon organ fires about 314 /s per g of force on its own capsule, about two orders of
-magnitude more than per g measured at the tendon (Stephens & Stauffer 1975), and responds to the contraction of
-one or two in-series muscle fibres, under 0.1 g (Houk & Henneman 1967, J Neurophysiol 30:466-481).
+Fm (N): the muscle's force.  Defaults g1 = 60 /s, g2 = 4 N.  H's poles are at 0.2 and 2 /s and its zeros at
+0.18 and 1.34 /s: a step of force first raises the rate to 1.7 times its steady value, which it then approaches
+over seconds.  Written as partial fractions, with two first-order low-passes of x,
+
+    z1' = (x - z1)/tau1,  tau1 = 5000 ms;   z2' = (x - z2)/tau2,  tau2 = 500 ms
+    rate = 1.7 x - (2/15) z1 - (17/30) z2
+
+(1.7 - 2/15 - 17/30 = 1: the steady rate is x).  The paper itself was not at hand; the equation and every
+coefficient are those of two re-implementations that agree on each (the pools guide, docs/guide/pools.md, lists
+them and where a third differs).
+
+One receptor reads the force F (N) of one muscle unit: fscale (1) scales it to the muscle's, Fm = fscale F (the
+reflex sets fscale to the pool's summed P0 over the unit's P0: the muscle's force were every unit pulling at this
+unit's fraction of its P0).  A negative force counts as none.  The rate is held in [0, max_rate]
+(afferent_encoder.inc).  INITIAL starts both low-passes at the steady state of the force there.
 
 Coupling: POINTER F -> the force (N) of the muscle unit's contraction mechanism (KimForce.F, KimUnit.F).
 Registration order: this file is registered before the Kim modules: it reads the force of the previous step
@@ -27,21 +35,50 @@ NEURON {
     POINT_PROCESS TendonOrganIb
     THREADSAFE
     POINTER F
-    RANGE kf, fmax, r0, sample_ms, max_rate, phase0, rate, phase
+    RANGE g1, g2, fscale, tau1, tau2, sample_ms, max_rate, phase0, rate, phase
 }
 
 PARAMETER {
-    kf = 333 (/s)
-    fmax = 1 (N)
-    r0 = 0 (/s)
+    g1 = 60 (/s)
+    g2 = 4 (N)
+    fscale = 1 (1)
+    tau1 = 5000 (ms)
+    tau2 = 500 (ms)
 }
 
 ASSIGNED {
     F (N)
 }
 
+STATE {
+    z1 (/s)
+    z2 (/s)
+}
+
+BREAKPOINT {
+    SOLVE lowpass METHOD cnexp
+}
+
+DERIVATIVE lowpass {
+    z1' = (static_rate() - z1)/tau1
+    z2' = (static_rate() - z2)/tau2
+}
+
+FUNCTION static_rate() (/s) {
+    if (F > 0) {
+        static_rate = g1*log(fscale*F/g2 + 1)
+    } else {
+        static_rate = 0
+    }
+}
+
+PROCEDURE receptor_initial() {
+    z1 = static_rate()
+    z2 = static_rate()
+}
+
 FUNCTION rate_now() (/s) {
-    rate_now = kf*F/fmax + r0
+    rate_now = 1.7*static_rate() - (2/15)*z1 - (17/30)*z2
 }
 
 INCLUDE "afferent_encoder.inc"

@@ -8,11 +8,11 @@ read the pool's muscle length, velocity and unit forces, and their spikes reach 
     afferent = reflex.spikes()                                       # {"Ia": [...], "II": [...], "Ib": [...]} (ms)
 
 Afferents (mod/SpindleIa.mod, SpindleII.mod: the rate equations of Prochazka & Gorassini 1998 and Prochazka 1999;
-TendonOrganIb.mod: a linear gain in the unit's force, its source unverified; each rate turned into spikes by a
-deterministic integrate-to-threshold): afferent k of a kind sits on the muscle section of unit k mod N, reads
-that unit's MuscleLength (Ia: xm and vm; II: xm) or its force (Ib: F, scaled by the unit's P0), and lives on the
-rank that owns the unit.  Each has a ParallelContext gid (after the pool's unit gids), so its spikes reach
-motoneurons on any rank.
+TendonOrganIb.mod: the model of Lin & Crago 2002, a logarithm of the muscle's force through second-order
+dynamics; each rate turned into spikes by a deterministic integrate-to-threshold): afferent k of a kind sits on
+the muscle section of unit k mod N, reads that unit's MuscleLength (Ia: xm and vm; II: xm) or its force (Ib: F,
+scaled to the muscle's by the pool's summed P0 over the unit's P0), and lives on the rank that owns the unit.
+Each has a ParallelContext gid (after the pool's unit gids), so its spikes reach motoneurons on any rank.
 
 Pathways: every Ia afferent excites every motoneuron monosynaptically (an excitatory synapse at the soma,
 reversal 0 mV; peak conductance by motoneuron type, ``ia_weight_uS``) after ``ia_delay_ms`` (conduction and
@@ -123,6 +123,8 @@ class Reflex:
         self.receptors: dict[int, Any] = {}
         self._keep: list[Any] = []
         self._spikes: dict[int, Any] = {}
+        #: the muscle's P0 (N): every unit's, summed; a tendon organ reads its unit's force scaled to it
+        self.muscle_p0_N = float(sum(u.muscle["P0"] for u in pool.definition.units()))
         next_gid = n_units
         for kind, mechanism in AFFERENTS.items():
             n = definition.count(kind)
@@ -165,7 +167,7 @@ class Reflex:
                 raise InputError(f"reflex: the Ib afferents read a force F (N); unit {unit}'s contraction "
                                  f"outputs {out.output!r}")
             h.setpointer(out.obj._ref_F, "F", receptor)
-            receptor.fmax = float(muscle.params["P0"])
+            receptor.fscale = self.muscle_p0_N / float(muscle.params["P0"])
         else:
             receptor.xref, receptor.fus = self.definition.xref_mm, self.definition.fusimotor
             h.setpointer(length._ref_xm, "xm", receptor)

@@ -1,7 +1,9 @@
 """The afferent mechanisms (SpindleIa, SpindleII, TendonOrganIb) fire at the rates of their published equations,
 evaluated here in Python and checked at points worked out by hand from the published coefficients (Prochazka &
-Gorassini 1998 for Ia; Moraud et al. 2016 after Prochazka 1999 for II): each rate rises with what its receptor
-reads (stretch velocity, stretch, force), a shortening spindle slows, and the rate never goes below 0."""
+Gorassini 1998 for Ia; Moraud et al. 2016 after Prochazka 1999 for II; Lin & Crago 2002 for Ib): each rate rises
+with what its receptor reads (stretch velocity, stretch, force), a shortening spindle slows, the rate never goes
+below 0, and the tendon organ's rate after a step of force follows Lin & Crago's transfer function, integrated
+here by SciPy."""
 
 import numpy as np
 import pytest
@@ -21,11 +23,12 @@ def _ii(d, fus=0.0):
     return max(0.0, 13.5 * d + 0.2 * fus + 80.0)
 
 
-def _ib(force_N, fmax_N):
-    return max(0.0, 333.0 * force_N / fmax_N)
+def _ib(force_N, fscale=1.0):
+    """Lin & Crago 2002, the steady rate: 60 ln(Fm/4 N + 1), Fm = fscale F (N)."""
+    return 60.0 * np.log(fscale * max(force_N, 0.0) / 4.0 + 1.0)
 
 
-def _rate(kind, xm=-8.0, vm=0.0, force_N=0.0, fmax_N=1.0, fus=0.0):
+def _rate(kind, xm=-8.0, vm=0.0, force_N=0.0, fscale=1.0, fus=0.0):
     """The mechanism's spike count over DURATION_MS as a rate (Hz), the inputs held constant."""
     load_mechanisms()
     from neuron import h
@@ -39,7 +42,7 @@ def _rate(kind, xm=-8.0, vm=0.0, force_N=0.0, fmax_N=1.0, fus=0.0):
     receptor = getattr(h, kind)(sec(0.5))
     if kind == "TendonOrganIb":
         h.setpointer(play._ref_force_offset, "F", receptor)
-        receptor.fmax = fmax_N
+        receptor.fscale = fscale
     else:
         receptor.xref, receptor.fus = -8.0, fus
         h.setpointer(length._ref_xm, "xm", receptor)
@@ -103,10 +106,54 @@ def test_ii_rate_is_the_equation_and_ignores_velocity(d):
     assert rate == pytest.approx(_ii(d), abs=0.5)
 
 
-@pytest.mark.parametrize("force_N", [0.0, 0.2, 0.5, 1.0])
-def test_ib_rate_is_the_equation(force_N):
-    rate, _ = _rate("TendonOrganIb", force_N=force_N, fmax_N=2.0)
-    assert rate == pytest.approx(_ib(force_N, 2.0), abs=0.5)
+# (force F (N), fscale, rate (/s)) by hand from Lin & Crago's 60 ln(Fm/4 + 1): ln 2 = 0.693147, ln 4 = 1.386294,
+# ln 6.75 = 1.909543
+IB_POINTS = [(0.0, 1.0, 0.0), (4.0, 1.0, 41.58883), (2.0, 2.0, 41.58883), (12.0, 1.0, 83.17766),
+             (23.0, 1.0, 114.57256), (-3.0, 1.0, 0.0)]
+
+
+@pytest.mark.parametrize("force_N, fscale, published", IB_POINTS)
+def test_ib_steady_rate_is_the_published_equation(force_N, fscale, published):
+    rate, held = _rate("TendonOrganIb", force_N=force_N, fscale=fscale)
+    assert held == pytest.approx(published, abs=1e-4)
+    assert held == pytest.approx(_ib(force_N, fscale), rel=1e-12)
+    assert rate == pytest.approx(published, abs=1.0 / (DURATION_MS / 1000.0))
+
+
+def test_ib_rate_after_a_step_of_force_follows_the_transfer_function():
+    """A step of force from 2 to 12 N at 200 ms: the rate jumps to 1.7 times the step of the log term and relaxes
+    over seconds, as (1.7 s^2 + 2.58 s + 0.4)/(s^2 + 2.2 s + 0.4) integrated by SciPy gives it."""
+    from scipy import signal
+
+    load_mechanisms()
+    from neuron import h
+
+    h.load_file("stdrun.hoc")
+    sec = h.Section(name="ib_step")
+    play = h.SynthPlay(sec(0.5))
+    play.force_offset = 2.0
+    receptor = h.TendonOrganIb(sec(0.5))
+    h.setpointer(play._ref_force_offset, "F", receptor)
+    t, rate = h.Vector(), h.Vector()
+    t.record(h._ref_t, 1.0)
+    rate.record(receptor._ref_rate, 1.0)
+    h.CVode().active(0)
+    h.dt = 0.025
+    h.finitialize(-65.0)
+    h.continuerun(200.0)
+    play.force_offset = 12.0
+    h.continuerun(6000.0)
+    t_ms, simulated = np.array(t), np.array(rate)
+    x = np.where(t_ms < 200.0, _ib(2.0), _ib(12.0))
+    system = signal.lti([1.7, 2.58, 0.4], [1.0, 2.2, 0.4])
+    _, expected, _ = signal.lsim(system, x - x[0], t_ms / 1000.0)
+    expected = expected + x[0]
+    assert simulated[t_ms < 199.0] == pytest.approx(_ib(2.0), abs=1e-6)   # steady from INITIAL
+    jump = _ib(2.0) + 1.7 * (_ib(12.0) - _ib(2.0))
+    assert simulated[(t_ms > 200.5) & (t_ms < 202.0)].max() == pytest.approx(jump, rel=2e-3)
+    after = t_ms > 201.0
+    assert np.max(np.abs(simulated[after] - expected[after])) < 1e-3 * jump
+    assert _ib(12.0) < simulated[-1] < 1.05 * _ib(12.0)   # still settling from above 5.8 s on (the 5 s pole)
 
 
 def test_rates_stay_at_or_above_zero():

@@ -51,7 +51,7 @@ def test_the_loop_makes_more_force_than_cut_dorsal_roots():
 def test_ib_inhibition_lowers_the_discharge():
     """The same Ia input, with and without the Ib interneurons' inhibition."""
     excite_only, _ = _run(ReflexDefinition(n_ia=6, n_ib=2, xref_mm=-10.0, ib_weight_uS=0.0))
-    inhibited, aff = _run(ReflexDefinition(n_ia=6, n_ib=2, xref_mm=-10.0, ib_weight_uS=0.05))
+    inhibited, aff = _run(ReflexDefinition(n_ia=6, n_ib=2, xref_mm=-10.0, ib_weight_uS=0.5))
     assert sum(s.size for s in aff["Ib_interneurons"]) > 10
     assert sum(s.size for s in inhibited.spikes_ms) < sum(s.size for s in excite_only.spikes_ms)
 
