@@ -29,6 +29,7 @@ reproducible and adding a world does not change another's draws.  Units: %, s.
 
 from __future__ import annotations
 
+import gzip
 import json
 import sys
 import time
@@ -309,15 +310,19 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
 
 def read_journals(paths: Sequence[str]) -> list[dict[str, Any]]:
     """Every case record of the journal files ``paths`` (one JSON line per finished case, as ``--journal`` writes
-    them), in order: several partial or parallel runs of a suite scored as one.  InputError naming the file and line
-    of a record that is not a case, and of a case that appears twice (same world, effects and dataset seed)."""
+    them; gzip-compressed when the name ends in .gz), in order: several partial or parallel runs of a suite scored
+    as one.  InputError naming the file and line of a record that is not a case, and of a case that appears twice
+    (same world, effects and dataset seed)."""
     rows: list[dict[str, Any]] = []
     seen: dict[tuple, str] = {}
     for path in paths:
         try:
-            lines = Path(path).read_text(encoding="utf-8").splitlines()
+            raw = Path(path).read_bytes()
+            lines = (gzip.decompress(raw) if str(path).endswith(".gz") else raw).decode("utf-8").splitlines()
         except OSError as e:
             raise InputError(f"{path}: cannot read the journal ({e.strerror or e})") from None
+        except (EOFError, UnicodeDecodeError) as e:
+            raise InputError(f"{path}: cannot read the journal ({e})") from None
         for k, line in enumerate(lines, 1):
             if not line.strip():
                 continue

@@ -51,7 +51,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     help="with --suite: start at case K (1-based, the order of the progress lines): resume a suite")
     bd.add_argument("--score", nargs="+", default=None, metavar="JOURNAL",
                     help="instead: score the finished cases of suite journals (several partial or parallel runs "
-                         "as one), no diagnosis run")
+                         "as one; a name ending in .gz is read gzip-compressed), no diagnosis run")
     bd.add_argument("--separability", action="store_true",
                     help="with --suite: instead of diagnosing, how far each case's hidden effect can be told from "
                          "calibration, to first order at the truth (about 1 min a case)")

@@ -1,10 +1,12 @@
 """``neuromuscle bench diagnose --suite``: the draws per world, the two-effect files and the scoring from each case's
 ``named`` list (the diagnoses themselves are measured by the command and by tests/diagnose)."""
 
-import pytest
-
+import gzip
 import json
 import re
+from pathlib import Path
+
+import pytest
 
 from neuromuscle.bench.diagnose_suite import (NULL_ROW, SuiteCase, _evidence_row, judge_case, read_journals, score,
                                               score_journals, suite_cases, table_lines)
@@ -117,6 +119,9 @@ def test_journals_of_several_runs_score_as_one_suite(tmp_path, capsys):
     assert main(["bench", "diagnose", "--score", a, b]) == 0
     out = capsys.readouterr().out
     assert "false alarms 1 of 2 nulls" in out and f"| B | {NULL_ROW} | 1 | 0 |" in out
+    packed = tmp_path / "b.jsonl.gz"
+    packed.write_bytes(gzip.compress(Path(b).read_bytes()))
+    assert score_journals([a, str(packed)]) == {**res, "journals": [a, str(packed)]}
 
 
 @pytest.mark.parametrize("text, message", [("{not json\n", "line 2: not a JSON line"),
@@ -130,6 +135,9 @@ def test_a_bad_journal_is_refused_naming_its_file_and_line(tmp_path, text, messa
         read_journals([str(path)])
     with pytest.raises(InputError, match="cannot read"):
         read_journals([str(tmp_path / "missing.jsonl")])
+    (tmp_path / "cut.jsonl.gz").write_bytes(gzip.compress(good.encode())[:-9])
+    with pytest.raises(InputError, match="cut.jsonl.gz: cannot read"):
+        read_journals([str(tmp_path / "cut.jsonl.gz")])
 
 
 @pytest.mark.parametrize("argv, message", [(["--suite", "-1"], "seeds"),
