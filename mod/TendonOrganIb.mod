@@ -15,9 +15,10 @@ over seconds.  Written as partial fractions, with two first-order low-passes of 
     z1' = (x - z1)/tau1,  tau1 = 5000 ms;   z2' = (x - z2)/tau2,  tau2 = 500 ms
     rate = 1.7 x - (2/15) z1 - (17/30) z2
 
-(1.7 - 2/15 - 17/30 = 1: the steady rate is x).  The paper itself was not at hand; the equation and every
-coefficient are those of two re-implementations that agree on each (the pools guide, docs/guide/pools.md, lists
-them and where a third differs).
+(1.7 - 2/15 - 17/30 = 1: the steady rate is x).  tau1 and tau2 are H's poles, and the three coefficients belong
+to them, so they are fixed (GLOBAL), not settings of a receptor.  The paper itself was not at hand; the equation
+and every coefficient are those of two re-implementations that agree on each (the pools guide,
+docs/guide/pools.md, lists them and where a third differs).
 
 One receptor reads the force F (N) of one muscle unit: fscale (1) scales it to the muscle's, Fm = fscale F (the
 reflex sets fscale to the pool's summed P0 over the unit's P0: the muscle's force were every unit pulling at this
@@ -35,7 +36,7 @@ NEURON {
     POINT_PROCESS TendonOrganIb
     THREADSAFE
     POINTER F
-    RANGE g1, g2, fscale, tau1, tau2, sample_ms, max_rate, phase0, rate, phase
+    RANGE g1, g2, fscale, sample_ms, max_rate, phase0, rate, phase
 }
 
 PARAMETER {
