@@ -98,6 +98,16 @@ class Evidence:
         return sum(t["gain"] for t in trials) / excess if excess > 0 else None
 
     @property
+    def window_nrmse(self) -> tuple[float, float] | None:
+        """The mean NRMSE (%) before and after on the held-out trials where the cause is judged (rule R7's trials);
+        None without such a trial."""
+        trials = [self.per_trial[i] for i in self.window_trials if i in self.per_trial]
+        if not trials:
+            return None
+        return (float(np.mean([t["nrmse_before"] for t in trials])),
+                float(np.mean([t["nrmse_after"] for t in trials])))
+
+    @property
     def share_of_baseline_excess(self) -> float | None:
         """The held-out gain as a share of the baseline's held-out error above noise (None when not known)."""
         return self.gain / self.baseline_excess if self.baseline_excess else None
@@ -134,7 +144,7 @@ class Evidence:
         return {"n_parameters": self.n_parameters, "gain_noise_variances": self.gain, "chi2_gain": self.chi2_gain,
                 "bic_penalty": self.bic_penalty, "bootstrap_p05": self.bootstrap_p05, "excess": self.excess,
                 "excess_removed": self.excess_removed, "window_excess_removed": self.window_excess_removed,
-                "nrmse_heldout_before": self.nrmse_before,
+                "window_nrmse": self.window_nrmse, "nrmse_heldout_before": self.nrmse_before,
                 "nrmse_heldout_after": self.nrmse_after, "structured_before": self.structured_before,
                 "identified": self.identified, "calibration_chi2_gain": self.calibration_chi2_gain,
                 "calibration_bic_penalty": self.calibration_penalty, "window": self.window_how,
@@ -250,11 +260,12 @@ def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: M
         gain += s0 - s1
         chi2 += (s0 - s1) * (1 - nz.rho) / (1 + nz.rho)
         excess += max(s0 - e0.size, 0.0)
-        per_trial[i] = {"gain": s0 - s1, "excess": max(s0 - e0.size, 0.0)}
-        n_eff += nz.n_eff
-        per_sample.append((e0 ** 2 - e1 ** 2) / v)
         nr0.append(nrmse_percent(measured[i], before[i]))
         nr1.append(nrmse_percent(measured[i], after[i]))
+        per_trial[i] = {"gain": s0 - s1, "excess": max(s0 - e0.size, 0.0), "nrmse_before": nr0[-1],
+                        "nrmse_after": nr1[-1]}
+        n_eff += nz.n_eff
+        per_sample.append((e0 ** 2 - e1 ** 2) / v)
     penalty = n_parameters * math.log(max(n_eff, 2.0))
     p05 = block_bootstrap_p05(per_sample, [noise[i] for i in heldout], np.random.default_rng(seed))
     ev = Evidence(n_parameters, gain, chi2, penalty, p05, excess, float(np.mean(nr0)), float(np.mean(nr1)),

@@ -226,3 +226,22 @@ def test_the_evidence_keeps_each_held_out_trials_gain_and_excess():
     assert sum(t["gain"] for t in ev.per_trial.values()) == pytest.approx(ev.gain)
     assert sum(t["excess"] for t in ev.per_trial.values()) == pytest.approx(ev.excess)
     assert ev.to_json()["per_trial"] == ev.per_trial
+
+
+@pytest.mark.parametrize("in_window, passes", [(True, True), (False, False)])
+def test_r5_asks_the_nrmse_to_fall_where_the_cause_is_judged(in_window, passes):
+    """A cause with one telling trial removes most of its effect there and leaves the three other held-out trials a
+    little worse: the mean NRMSE over every trial does not fall, the one on the telling trial does.  Judged where it
+    is defined R5 passes; with the window on another trial it fails."""
+    rng = np.random.default_rng(11)
+    ids, meas, before, after, noise = _case(rng, 0.0, 0.0, 0.0)
+    eff = 0.15 * np.linspace(0, 1, 1000)
+    before[1], after[1] = before[1] + eff, before[1] + 0.1 * eff
+    noise[1] = noise_level(before[1] - meas[1])
+    for k in (0, 2, 3):
+        after[k] = before[k] + 0.08 * np.sin(np.linspace(0, 9, 1000))
+    window = {1 if in_window else 2: WindowSamples(np.ones(1000, bool), "defined")}
+    ev = judge(ids, meas, before, after, noise, 2, ["x.k"], window=window)
+    assert ev.nrmse_after >= ev.nrmse_before
+    assert ("R5" not in ev.failed) == passes
+    assert ev.to_json()["window_nrmse"] == ev.window_nrmse
