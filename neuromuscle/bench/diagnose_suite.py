@@ -233,6 +233,7 @@ def _evidence_row(ev: Evidence) -> dict[str, Any]:
             "structured_before": len(ev.structured_before), "failed": sorted(ev.failed), "why": dict(ev.failed),
             "cross_validated_trials": list(ev.crossed),
             "trials": {i: {"gain": round(t["gain"], 1), "excess": round(t["excess"], 1),
+                           "nrmse": [round(t["nrmse_before"], 3), round(t["nrmse_after"], 3)],
                            **({"window_chi2_gain": round(ev.window_trials[i]["chi2_gain"], 1)}
                               if i in ev.window_trials else {})}
                        for i, t in ev.per_trial.items()}}

@@ -164,11 +164,13 @@ def test_a_candidates_row_says_which_rules_it_failed_and_why_with_the_windows_bo
                   nrmse_before=5.0, nrmse_after=4.0, structured_before=["a"], identified=["x.k"],
                   calibration_chi2_gain=400.0, calibration_penalty=25.0, window_how="defined",
                   window_chi2_gain=4904.94, window_penalty=19.2, window_p05=-1130.7,
-                  window_trials={"a": {"chi2_gain": 4904.94}}, per_trial={"a": {"gain": 900.0, "excess": 1000.0}},
+                  window_trials={"a": {"chi2_gain": 4904.94}},
+                  per_trial={"a": {"gain": 900.0, "excess": 1000.0, "nrmse_before": 5.0, "nrmse_after": 4.0}},
                   crossed=("a",))
     row = _evidence_row(apply_rules(ev))
     assert row["failed"] == ["R7"] and "bootstrap 5th percentile -1.13e+03" in row["why"]["R7"]
     assert row["window_chi2_gain"] == 4904.9 and row["window_p05"] == -1130.7
     assert row["quiet_chi2_gain"] is None and row["quiet_p05"] is None
     assert row["cross_validated_trials"] == ["a"] and row["trials"]["a"]["window_chi2_gain"] == 4904.9
+    assert row["trials"]["a"]["nrmse"] == [5.0, 4.0]
     json.dumps(row)  # a journal line
