@@ -322,7 +322,7 @@ def read_journals(paths: Sequence[str]) -> list[dict[str, Any]]:
             lines = (gzip.decompress(raw) if str(path).endswith(".gz") else raw).decode("utf-8").splitlines()
         except OSError as e:
             raise InputError(f"{path}: cannot read the journal ({e.strerror or e})") from None
-        except (EOFError, UnicodeDecodeError) as e:
+        except (EOFError, UnicodeDecodeError, zlib.error) as e:
             raise InputError(f"{path}: cannot read the journal ({e})") from None
         for k, line in enumerate(lines, 1):
             if not line.strip():

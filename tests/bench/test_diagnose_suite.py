@@ -138,6 +138,12 @@ def test_a_bad_journal_is_refused_naming_its_file_and_line(tmp_path, text, messa
     (tmp_path / "cut.jsonl.gz").write_bytes(gzip.compress(good.encode())[:-9])
     with pytest.raises(InputError, match="cut.jsonl.gz: cannot read"):
         read_journals([str(tmp_path / "cut.jsonl.gz")])
+    bad = bytearray(gzip.compress(good.encode() * 20))
+    bad[20] ^= 0xFF
+    bad[30] ^= 0xFF
+    (tmp_path / "bad.jsonl.gz").write_bytes(bytes(bad))
+    with pytest.raises(InputError, match="bad.jsonl.gz: cannot read"):
+        read_journals([str(tmp_path / "bad.jsonl.gz")])
 
 
 @pytest.mark.parametrize("argv, message", [(["--suite", "-1"], "seeds"),
