@@ -6,6 +6,9 @@ Caillet et al. 2022, 2023; read by path, never copied):
 1. the muscle's pool (``neuromuscle.pool.follow_force.HUMAN_MUSCLES``: unit types, published recruitment
    thresholds, upper limit of recruitment 90 % MVC) runs one slow ramp of its common synaptic drive; the P0 spread
    whose thresholds come closest to the published ones and the MVC drive follow (calibration, once per muscle);
+   with ``--p0-spread recording`` the spread is fitted to each file instead: the one whose units a decomposition
+   would identify (step 4) have recruitment thresholds closest to the recorded ones
+   (``follow_force.fit_p0_spread_to_recording``; depths from seeds other than those reported);
 2. the drive that makes the pool's force (% of its MVC) follow the recorded force is the ramp's force-drive
    relation inverted (rising branch, then falling branch after the plateau), corrected ``--corrections`` times by
    the remaining error, each correction from the best pass so far (``follow_force.follow``, which keeps the best
@@ -20,7 +23,7 @@ The units are not matched one to one.
 
 Run: python networks/pool_vs_recorded.py --out DIR [--file F.mat ...] [--units N] [--corrections K] [--full]
                                           [--seed S] [--depth-attenuation A] [--neuromodulation NM]
-                                          [--set NAME=VALUE ...]
+                                          [--set NAME=VALUE ...] [--p0-spread published|recording]
 Default: S1_30_36L.mat, 40 units, one correction, seed 0, the module's depth attenuation.  --full: every file, 80
 units.  The depth attenuation was estimated on S1_30_256 with
 ``python -m neuromuscle.pool.identification DIR/S1_30_256.json`` (40 units).  Writes, per file,
@@ -42,7 +45,8 @@ import numpy as np
 
 from neuromuscle.errors import InputError
 from neuromuscle.pool.discharges import RecordedDischarges, load_caillet
-from neuromuscle.pool.follow_force import HUMAN_MUSCLES, Calibration, P0Spread, calibrate, run_drive
+from neuromuscle.pool.follow_force import (FIT_SEEDS, HUMAN_MUSCLES, Calibration, P0Spread, calibrate,
+                                          fit_p0_spread_to_recording, run_drive)
 from neuromuscle.pool.follow_force import follow as follow_force
 from neuromuscle.pool.identification import DEFAULT_SEED, DEPTH_ATTENUATION, IdentificationModel
 from neuromuscle.pool.motoneuron import parse_settings
@@ -217,6 +221,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                     help="the motoneurons' PIC strength (default neuromuscle.pool.motoneuron.HUMAN_NEUROMODULATION)")
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="a motoneuron parameter replaced in every cell, e.g. g_ks_S_per_cm2=0.03 (repeatable)")
+    ap.add_argument("--p0-spread", choices=("published", "recording"), default="published",
+                    help="fit the muscle units' P0 spread to the muscle's published thresholds (once per muscle) or "
+                         "to each recording's thresholds as a decomposition would sample them")
     ap.add_argument("--overwrite", action="store_true")
     a = ap.parse_args(argv)
     try:
@@ -246,12 +253,24 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                   f"{sp.mvc_drive_uS:.3g} uS, thresholds {sp.rms_error_percent:.2f} % MVC rms from the published",
                   file=sys.stderr)
         cal, spread = calibrations[m]
+        fitted_to, distance = "published thresholds", float("nan")
+        if a.p0_spread == "recording":
+            rec = load_caillet(path)
+            spread, distance = fit_p0_spread_to_recording(cal, HUMAN_MUSCLES[m], rec.thresholds_percent_mvc(),
+                                                          rec.level_percent_mvc, model=ident_model)
+            fitted_to = "recorded thresholds"
+            print(f"{path.name}: P0 range {spread.range_ratio:.3g}, exponent {spread.exponent:.3g}, MVC drive "
+                  f"{spread.mvc_drive_uS:.3g} uS, identified thresholds KS {distance:.2f} from the recorded "
+                  f"(mean over seeds {FIT_SEEDS.start}-{FIT_SEEDS.stop - 1}), {spread.rms_error_percent:.1f} % MVC "
+                  "rms from the published", file=sys.stderr)
         run = follow(path, cal, spread, a.corrections, a.dt_ms, ident_model, HUMAN_MUSCLES[m].motor_units)
         cmp: Comparison = run["comparison"]
         summary = cmp.summary()
         row = {"file": path.name, "muscle": m, "nrmse_percent": run["nrmse_best"],
                "nrmse_percent_passes": run["nrmse_percent"], "summary": summary,
                "pool": {"units": n, "p0_range": spread.range_ratio, "p0_exponent": spread.exponent,
+                        "p0_spread_fitted_to": fitted_to, "identified_thresholds_ks_fit": distance,
+                        "fit_seeds": [FIT_SEEDS.start, FIT_SEEDS.stop - 1] if a.p0_spread == "recording" else None,
                         "mvc_drive_uS": spread.mvc_drive_uS, "thresholds_rms_percent": spread.rms_error_percent,
                         "neuromodulation": cal.definition.neuromodulation,
                         "motoneuron_overrides": dict(cal.definition.motoneuron_overrides)},

@@ -29,7 +29,7 @@ Units: ms, uS (the drive: each motoneuron's total synaptic conductance), N (forc
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Callable
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -39,6 +39,7 @@ from ..parameters import load_parameters
 from ..sim import Simulator
 from ..validate import positive_number
 from .definition import PoolDefinition
+from .identification import IdentificationModel, identified_ks
 from .motoneuron import HUMAN_NEUROMODULATION
 from .pool import Pool
 from .result import PoolResult
@@ -180,9 +181,11 @@ class Calibration:
         return P0Spread(float(range_ratio), float(exponent), g_max, float(mvc), thr, err)
 
     def fit_p0_spread(self, muscle: HumanMuscle, ratios: np.ndarray | None = None,
-                      exponents: np.ndarray | None = None) -> P0Spread:
+                      exponents: np.ndarray | None = None,
+                      distance: Callable[[P0Spread], float] | None = None) -> P0Spread:
         """The range ratio (of ``ratios``, default 2..1000 log-spaced) and exponent (of ``exponents``, default
-        0.5..30) whose thresholds come closest to the muscle's published ones."""
+        0.5..30) whose thresholds come closest to the muscle's published ones, or, given ``distance``, the
+        spread of smallest ``distance(spread)`` (e.g. ``recorded_thresholds_distance``: to one recording)."""
         grid = np.geomspace(2.0, 1000.0, 37) if ratios is None else np.asarray(ratios, float)
         powers = np.geomspace(0.5, 30.0, 19) if exponents is None else np.asarray(exponents, float)
         fits = [s for s in (self.spread_for(float(r), float(q), muscle) for r in grid for q in powers)
@@ -191,7 +194,7 @@ class Calibration:
             raise InputError(f"pool {self.definition.name!r}: the calibration ramp recruits "
                              f"{int(np.isfinite(self.onset_uS).sum())} of {self.onset_uS.size} units and never "
                              "reaches the MVC of any P0 spread: raise top_uS")
-        return min(fits, key=lambda s: s.rms_error_percent)
+        return min(fits, key=distance or (lambda s: s.rms_error_percent))
 
     def drive_for(self, spread: P0Spread, t_ms: np.ndarray, force_percent: np.ndarray, *, descent_ms: float,
                   step_ms: float = 20.0) -> tuple[np.ndarray, np.ndarray]:
@@ -221,6 +224,40 @@ class Calibration:
         step = np.convolve(step, np.ones(k) / k, mode="same")
         limit = max_step * spread.mvc_drive_uS
         return times, np.clip(drive + np.clip(step, -limit, limit), 0.0, spread.mvc_drive_uS)
+
+
+#: Seeds of the unit depths over which ``fit_p0_spread_to_recording`` averages (apart from the seeds 0-19 that
+#: ``recorded_comparison`` reports, so that the reported identification is not the one fitted).
+FIT_SEEDS = range(100, 110)
+
+
+def fit_p0_spread_to_recording(cal: Calibration, muscle: HumanMuscle, recorded_thresholds_percent: np.ndarray,
+                               level_percent: float, *, model: IdentificationModel | None = None,
+                               seeds: Sequence[int] = FIT_SEEDS) -> tuple[P0Spread, float]:
+    """The P0 spread fitted to one recording: the one whose units a decomposition would identify
+    (``identification.identified_ks``: the recording's count of the active units of highest surface energy, depths
+    from ``seeds``, ``model``'s parameters) have the recruitment thresholds (% MVC, on the calibration ramp)
+    closest to the recorded ones.  Active: the units recruited at or below ``level_percent`` (% MVC, the
+    recording's plateau).  Range ratios 1.5-100 (unit forces span about 100-fold in human muscles: Enoka &
+    Fuglevand 2001) and exponents 0.25-30, log-spaced.  Returns (the spread, its mean KS distance); InputError when
+    no spread's active units stand for as many muscle units as were recorded."""
+    rec = np.asarray(recorded_thresholds_percent, float)
+    m = model or IdentificationModel()
+
+    def distance(spread: P0Spread) -> float:
+        thr = spread.thresholds_percent
+        try:
+            return identified_ks(spread.p0_N(cal.rank), thr <= level_percent, thr, rec, motor_units=muscle.motor_units,
+                                 model=m, seeds=seeds)
+        except InputError:                   # too few active units for the recording's count
+            return np.inf
+
+    best = cal.fit_p0_spread(muscle, np.geomspace(1.5, 100.0, 37), np.geomspace(0.25, 30.0, 23), distance)
+    d = distance(best)
+    if not np.isfinite(d):
+        raise InputError(f"pool {cal.definition.name!r}: no P0 spread recruits enough units below "
+                         f"{level_percent:g} % MVC for the recording's {rec.size} units")
+    return best, d
 
 
 @dataclass(frozen=True)

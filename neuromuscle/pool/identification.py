@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import json
 import sys
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -164,28 +164,36 @@ def identify(p0_N: Sequence[float] | np.ndarray, active: Sequence[bool] | np.nda
     return Identification(m, int(count), int(motor_units), copies, identified)
 
 
+def identified_ks(p0_N: np.ndarray, active: np.ndarray, thresholds_percent: np.ndarray,
+                  recorded_thresholds_percent: np.ndarray, *, motor_units: int, model: IdentificationModel,
+                  seeds: Sequence[int] = range(20)) -> float:
+    """Mean over ``seeds`` (of the units' depths) of the Kolmogorov-Smirnov distance between the recruitment
+    thresholds of the units a decomposition would identify (``thresholds_percent``, % MVC, one per model unit, NaN
+    when inactive; each identified unit weighted by its copies) and the recorded ones, as many units identified as
+    were recorded; ``model`` gives every parameter but the seed."""
+    rec = np.asarray(recorded_thresholds_percent, float)
+    rec = rec[np.isfinite(rec)]
+    thr = np.asarray(thresholds_percent, float)
+    if not rec.size or thr.shape != np.shape(p0_N):
+        raise InputError("identified_ks needs recorded thresholds and one model threshold per unit")
+    d = []
+    for s in seeds:
+        ident = identify(p0_N, active, rec.size, motor_units=motor_units, model=replace(model, seed=int(s)))
+        d.append(ds.ks_distance(thr[ident.units], rec, ident.weights))
+    return float(np.mean(d))
+
+
 def estimate_depth_attenuation(p0_N: np.ndarray, active: np.ndarray, thresholds_percent: np.ndarray,
                                recorded_thresholds_percent: np.ndarray, *, motor_units: int,
                                grid: Sequence[float] | None = None, seeds: Sequence[int] = range(20),
                                size_exponent: float = SIZE_EXPONENT) -> tuple[float, np.ndarray]:
     """The ``depth_attenuation`` of ``grid`` (default 0-12 by 0.25) whose identified units' recruitment
-    thresholds (``thresholds_percent``, % MVC, one per model unit, NaN when inactive) come closest to the recorded
-    ones (mean Kolmogorov-Smirnov distance over ``seeds``, each identified unit weighted by its copies), the count
-    being the recording's number of units.  Returns (the value, the mean distance at every grid value)."""
-    rec = np.asarray(recorded_thresholds_percent, float)
-    rec = rec[np.isfinite(rec)]
-    thr = np.asarray(thresholds_percent, float)
+    thresholds come closest to the recorded ones (``identified_ks`` over ``seeds``).  Returns (the value, the mean
+    distance at every grid value)."""
     values = DEPTH_GRID if grid is None else np.asarray(grid, float)
-    if not rec.size or thr.shape != np.shape(p0_N):
-        raise InputError("estimate_depth_attenuation needs recorded thresholds and one model threshold per unit")
-    cost = np.empty(values.size)
-    for k, a in enumerate(values):
-        d = []
-        for s in seeds:
-            ident = identify(p0_N, active, rec.size, motor_units=motor_units,
-                             model=IdentificationModel(float(a), size_exponent, int(s)))
-            d.append(ds.ks_distance(thr[ident.units], rec, ident.weights))
-        cost[k] = float(np.mean(d))
+    cost = np.array([identified_ks(p0_N, active, thresholds_percent, recorded_thresholds_percent,
+                                   motor_units=motor_units, model=IdentificationModel(float(a), size_exponent),
+                                   seeds=seeds) for a in values])
     return float(values[int(np.argmin(cost))]), cost
 
 

@@ -5,7 +5,9 @@ import numpy as np
 import pytest
 
 from neuromuscle.errors import InputError
-from neuromuscle.pool.follow_force import HUMAN_MUSCLES, Calibration, calibrate, p0_spread
+from neuromuscle.pool.follow_force import (HUMAN_MUSCLES, Calibration, calibrate, fit_p0_spread_to_recording,
+                                          p0_spread)
+from neuromuscle.pool.identification import IdentificationModel, identify
 from neuromuscle.pool.result import PoolResult
 
 TA = HUMAN_MUSCLES["TA"]
@@ -42,6 +44,23 @@ def test_the_last_unit_is_recruited_at_the_limit(cal):
     fit = cal.fit_p0_spread(TA, ratios=[2.0, 5.0, 20.0], exponents=[1.0, 2.0])
     assert fit.rms_error_percent <= s.rms_error_percent
     assert fit.definition(cal).p0_N == pytest.approx(tuple(fit.p0_N(cal.rank)))
+
+
+def test_a_spread_fitted_to_a_recording_reproduces_the_sample_that_made_it():
+    cal = _made_up(TA.definition(20), n=20, top=3.0)
+    size_only = IdentificationModel(depth_attenuation=0.0)        # the largest active units, whatever the seed
+    truth = cal.spread_for(np.geomspace(1.5, 100.0, 37)[20], np.geomspace(0.25, 30.0, 23)[11], TA)
+    active = truth.thresholds_percent <= 30.0
+    found = identify(truth.p0_N(cal.rank), active, 60, motor_units=400, model=size_only)
+    recorded = np.repeat(truth.thresholds_percent[found.units], found.weights)
+    fit, d = fit_p0_spread_to_recording(cal, TA, recorded, 30.0, model=size_only, seeds=[0])
+    assert d == 0.0                                              # the truth is on the grid; the fit finds a match
+    again = identify(fit.p0_N(cal.rank), fit.thresholds_percent <= 30.0, 60, motor_units=400, model=size_only)
+    assert np.repeat(fit.thresholds_percent[again.units], again.weights) == pytest.approx(recorded, abs=1e-9)
+    published = cal.fit_p0_spread(TA)
+    assert published.rms_error_percent < fit.rms_error_percent   # the published fit answers another question
+    with pytest.raises(InputError, match="recruits enough units below 0 % MVC"):
+        fit_p0_spread_to_recording(cal, TA, recorded, 0.0, model=size_only, seeds=[0])
 
 
 def test_a_ramp_that_never_reaches_the_mvc_is_refused():

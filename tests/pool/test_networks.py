@@ -87,3 +87,15 @@ def test_pool_vs_recorded_briefly(tmp_path, network_script):
     for name in ("S1_30_36L.png", "S1_30_36L.json", "S1_30_36L_pool.h5", "pool_vs_recorded.md"):
         assert (tmp_path / "out" / name).stat().st_size > 200
     assert load_pool_result(tmp_path / "out" / "S1_30_36L_pool.h5").drive == "synaptic"
+    assert row["pool"]["p0_spread_fitted_to"] == "published thresholds" and row["pool"]["fit_seeds"] is None
+
+
+@pytest.mark.skipif(not CAILLET.is_dir(), reason=f"Caillet real-data folder {CAILLET} is absent")
+def test_pool_vs_recorded_with_the_spread_fitted_to_the_file(tmp_path, network_script):
+    script = network_script("pool_vs_recorded")
+    row = script.main(["--out", str(tmp_path / "out"), "--units", "12", "--corrections", "0", "--dt-ms", "0.05",
+                       "--p0-spread", "recording"])["files"][0]
+    pool = row["pool"]
+    assert pool["p0_spread_fitted_to"] == "recorded thresholds" and pool["fit_seeds"] == [100, 109]
+    assert 0.0 <= pool["identified_thresholds_ks_fit"] < 0.5 and 1.5 <= pool["p0_range"] <= 100.0
+    assert row["units"]["p0_N"][-1] == pytest.approx(pool["p0_range"])
