@@ -170,7 +170,7 @@ def identified_ks(p0_N: np.ndarray, active: np.ndarray, thresholds_percent: np.n
     """Mean over ``seeds`` (of the units' depths) of the Kolmogorov-Smirnov distance between the recruitment
     thresholds of the units a decomposition would identify (``thresholds_percent``, % MVC, one per model unit, NaN
     when inactive; each identified unit weighted by its copies) and the recorded ones, as many units identified as
-    were recorded; ``model`` gives every parameter but the seed."""
+    were recorded; ``model`` gives every parameter but the random seed."""
     rec = np.asarray(recorded_thresholds_percent, float)
     rec = rec[np.isfinite(rec)]
     thr = np.asarray(thresholds_percent, float)

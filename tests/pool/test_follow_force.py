@@ -48,7 +48,7 @@ def test_the_last_unit_is_recruited_at_the_limit(cal):
 
 def test_a_spread_fitted_to_a_recording_reproduces_the_sample_that_made_it():
     cal = _made_up(TA.definition(20), n=20, top=3.0)
-    size_only = IdentificationModel(depth_attenuation=0.0)        # the largest active units, whatever the seed
+    size_only = IdentificationModel(depth_attenuation=0.0)        # the largest active units, whatever the depths
     truth = cal.spread_for(np.geomspace(1.5, 100.0, 37)[20], np.geomspace(0.25, 30.0, 23)[11], TA)
     active = truth.thresholds_percent <= 30.0
     found = identify(truth.p0_N(cal.rank), active, 60, motor_units=400, model=size_only)
