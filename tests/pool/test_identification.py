@@ -6,11 +6,13 @@ import numpy as np
 import pytest
 
 from neuromuscle.errors import InputError
+from neuromuscle.pool import discharge_stats as ds
 from neuromuscle.pool.discharges import DischargeTrial
 from neuromuscle.pool.identification import (
     IdentificationModel,
     copies_per_unit,
     estimate_depth_attenuation,
+    identified_ks,
     identify,
     muap_energy,
 )
@@ -94,6 +96,21 @@ def test_the_estimate_finds_the_attenuation_that_made_a_sample():
     best, cost = estimate_depth_attenuation(P0, ACTIVE, thr, recorded, motor_units=400,
                                             grid=[0.0, 2.0, 6.0, 30.0, 200.0], seeds=range(10))
     assert best == 6.0 and cost[2] < cost[0] and cost[2] < cost[4]
+
+
+def test_the_identified_distance_averages_the_seeds_of_the_depths():
+    thr = np.linspace(0.5, 60.0, 40)
+    recorded = thr[25:]
+    model = IdentificationModel(depth_attenuation=3.0)
+    one = []
+    for seed in (4, 5):
+        found = identify(P0, ACTIVE, recorded.size, motor_units=400, model=IdentificationModel(3.0, seed=seed))
+        one.append(identified_ks(P0, ACTIVE, thr, recorded, motor_units=400, model=model, seeds=[seed]))
+        assert one[-1] == pytest.approx(ds.ks_distance(thr[found.units], recorded, found.weights))
+    both = identified_ks(P0, ACTIVE, thr, recorded, motor_units=400, model=model, seeds=[4, 5])
+    assert both == pytest.approx(np.mean(one))
+    with pytest.raises(InputError, match="one model threshold per unit"):
+        identified_ks(P0, ACTIVE, thr[:5], recorded, motor_units=400, model=model)
 
 
 T = np.arange(0.0, 20001.0, 1.0)
