@@ -37,9 +37,9 @@ from ..analysis.metrics import nrmse_percent
 from ..errors import InputError
 from ..parameters import load_parameters
 from ..sim import Simulator
-from ..validate import positive_number
+from ..validate import finite_number, positive_number
 from .definition import PoolDefinition
-from .identification import IdentificationModel, identified_ks
+from .identification import IdentificationModel, copies_per_unit, identified_ks
 from .motoneuron import HUMAN_NEUROMODULATION
 from .pool import Pool
 from .result import PoolResult
@@ -241,16 +241,21 @@ def fit_p0_spread_to_recording(cal: Calibration, muscle: HumanMuscle, recorded_t
     recording's plateau).  Range ratios 1.5-100 (unit forces span about 100-fold in human muscles: Enoka &
     Fuglevand 2001) and exponents 0.25-30, log-spaced.  Returns (the spread, its mean KS distance); InputError when
     no spread's active units stand for as many muscle units as were recorded."""
-    rec = np.asarray(recorded_thresholds_percent, float)
+    rec = np.asarray(recorded_thresholds_percent, float).ravel()
+    rec = rec[np.isfinite(rec)]
+    if not rec.size:
+        raise InputError("fit_p0_spread_to_recording: the recording has no finite recruitment threshold")
+    finite_number("level_percent", level_percent)
     m = model or IdentificationModel()
+    copies = copies_per_unit(cal.rank.size, muscle.motor_units)
 
     def distance(spread: P0Spread) -> float:
         thr = spread.thresholds_percent
-        try:
-            return identified_ks(spread.p0_N(cal.rank), thr <= level_percent, thr, rec, motor_units=muscle.motor_units,
-                                 model=m, seeds=seeds)
-        except InputError:                   # too few active units for the recording's count
+        active = thr <= level_percent
+        if copies[active].sum() < rec.size:       # too few active units for the recording's count
             return np.inf
+        return identified_ks(spread.p0_N(cal.rank), active, thr, rec, motor_units=muscle.motor_units, model=m,
+                             seeds=seeds)
 
     best = cal.fit_p0_spread(muscle, np.geomspace(1.5, 100.0, 37), np.geomspace(0.25, 30.0, 23), distance)
     d = distance(best)

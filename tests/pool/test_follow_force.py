@@ -61,6 +61,10 @@ def test_a_spread_fitted_to_a_recording_reproduces_the_sample_that_made_it():
     assert published.rms_error_percent < fit.rms_error_percent   # the published fit answers another question
     with pytest.raises(InputError, match="recruits enough units below 0 % MVC"):
         fit_p0_spread_to_recording(cal, TA, recorded, 0.0, model=size_only, seeds=[0])
+    with pytest.raises(InputError, match="no finite recruitment threshold"):
+        fit_p0_spread_to_recording(cal, TA, [np.nan], 30.0)
+    with pytest.raises(InputError, match="level_percent"):
+        fit_p0_spread_to_recording(cal, TA, recorded, float("nan"))
 
 
 def test_a_ramp_that_never_reaches_the_mvc_is_refused():
