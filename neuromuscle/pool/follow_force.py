@@ -185,7 +185,7 @@ class Calibration:
                       distance: Callable[[P0Spread], float] | None = None) -> P0Spread:
         """The range ratio (of ``ratios``, default 2..1000 log-spaced) and exponent (of ``exponents``, default
         0.5..30) whose thresholds come closest to the muscle's published ones, or, given ``distance``, the
-        spread of smallest ``distance(spread)`` (e.g. ``recorded_thresholds_distance``: to one recording)."""
+        spread of smallest ``distance(spread)`` (``fit_p0_spread_to_recording``: to one recording)."""
         grid = np.geomspace(2.0, 1000.0, 37) if ratios is None else np.asarray(ratios, float)
         powers = np.geomspace(0.5, 30.0, 19) if exponents is None else np.asarray(exponents, float)
         fits = [s for s in (self.spread_for(float(r), float(q), muscle) for r in grid for q in powers)
