@@ -82,7 +82,42 @@ class KimCalcium(Component):
         self.obj.lencomp = 1.0 if self.length_compensation else 0.0
 
 
-class KimActivation(Component):
+class MovementSwitches:
+    """Eqs 19 and 20 of Module 2 behind their own switches, for the components that hold Module 2 (KimAct and the
+    fused KimUnit): ``movement_depression`` (eq 19) and ``lengthening_divisor`` (eq 20); the paper's movement
+    compensation is both."""
+
+    movement_depression: bool
+    lengthening_divisor: bool
+    obj: Any
+
+    @property
+    def movement_compensation(self) -> bool:
+        """The paper's movement compensation: eqs 19 and 20 both on."""
+        return self.movement_depression and self.lengthening_divisor
+
+    @property
+    def uses_movement_clock(self) -> bool:
+        """True when eq 19 or eq 20 is on: A changes at the movement onset (a CVODE event there)."""
+        return self.movement_depression or self.lengthening_divisor
+
+    def movement_switches(self) -> dict[str, bool]:
+        """The two switches and the paper's compensation, as the component's ``switches`` reports them."""
+        return {"movement_compensation": self.movement_compensation, "eq19_movement_depression":
+                self.movement_depression, "eq20_lengthening_divisor": self.lengthening_divisor}
+
+    def configure_movement(self) -> None:
+        """Set the mechanism's eq 19 and eq 20 flags from the switches."""
+        self.obj.movdep = 1.0 if self.movement_depression else 0.0
+        self.obj.lengdiv = 1.0 if self.lengthening_divisor else 0.0
+
+    def set_movement_onset(self, onset_ms: float | None) -> None:
+        """Start eq 19's movement clock at onset_ms (ms); None: the muscle never moves."""
+        if onset_ms is not None:
+            self.obj.onset = float(onset_ms)
+
+
+class KimActivation(MovementSwitches, Component):
     """Module 2 (KimAct): troponin-bound Ca2+ -> activation A, eq 8, and the movement compensations eqs 19-20,
     each behind its own switch (``movement_depression``: eq 19; ``lengthening_divisor``: eq 20; the paper's
     movement compensation is both).  Reads T0, phi1, phi2 and xopt from KimCa."""
@@ -122,28 +157,11 @@ class KimActivation(Component):
         self.movement_depression = bool(movement_compensation)  # eq 19
         self.lengthening_divisor = bool(movement_compensation)  # eq 20
 
-    @property
-    def movement_compensation(self) -> bool:
-        """The paper's movement compensation: eqs 19 and 20 both on."""
-        return self.movement_depression and self.lengthening_divisor
-
-    @property
-    def uses_movement_clock(self) -> bool:
-        """True when eq 19 or eq 20 is on: A changes at the movement onset (a CVODE event there)."""
-        return self.movement_depression or self.lengthening_divisor
-
     def switches(self) -> dict[str, bool]:
-        return {"movement_compensation": self.movement_compensation, "eq19_movement_depression":
-                self.movement_depression, "eq20_lengthening_divisor": self.lengthening_divisor}
+        return self.movement_switches()
 
     def configure(self, params: Mapping[str, float] | None) -> None:
-        self.obj.movdep = 1.0 if self.movement_depression else 0.0
-        self.obj.lengdiv = 1.0 if self.lengthening_divisor else 0.0
-
-    def set_movement_onset(self, onset_ms: float | None) -> None:
-        """Start eq 19's movement clock at onset_ms (ms); None: the muscle never moves."""
-        if onset_ms is not None:
-            self.obj.onset = float(onset_ms)
+        self.configure_movement()
 
 
 class KimForce(Component):

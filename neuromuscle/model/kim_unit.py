@@ -23,12 +23,12 @@ from typing import Any, Mapping
 
 from ..errors import InputError
 from .component import Component, Param, Port, by_qualified_name
-from .kim import KimActivation, KimCalcium, KimForce
+from .kim import KimActivation, KimCalcium, KimForce, MovementSwitches
 
 _MODULES = (KimCalcium, KimActivation, KimForce)
 
 
-class KimUnit(Component):
+class KimUnit(MovementSwitches, Component):
     """Modules 1-3 (eqs 1-12, 18-20) in one point process: receives spikes, outputs F (N).  ``substeps`` k >= 1:
     under the fixed step the muscle advances once every k membrane steps by a step of k dt (k = 1: the
     three-mechanism update bit for bit)."""
@@ -75,33 +75,17 @@ class KimUnit(Component):
                              "asymptote (2 + c0/P0) Fc must lie above Fc); give a larger c0")
         return v
 
-    @property
-    def movement_compensation(self) -> bool:
-        return self.movement_depression and self.lengthening_divisor
-
-    @property
-    def uses_movement_clock(self) -> bool:
-        """True when eq 19 or eq 20 is on: A changes at the movement onset (a CVODE event there)."""
-        return self.movement_depression or self.lengthening_divisor
-
     def switches(self) -> dict[str, Any]:
-        return {"length_compensation": self.length_compensation, "movement_compensation":
-                self.movement_compensation, "eq19_movement_depression": self.movement_depression,
-                "eq20_lengthening_divisor": self.lengthening_divisor, "substeps": self.substeps}
+        return {"length_compensation": self.length_compensation, **self.movement_switches(),
+                "substeps": self.substeps}
 
     def configure(self, params: Mapping[str, float] | None) -> None:
         self.obj.xopt = self.obj.g1  # eq 18's optimum is Module 3's optimal length (KimCalcium.configure)
         self.obj.lencomp = 1.0 if self.length_compensation else 0.0
-        self.obj.movdep = 1.0 if self.movement_depression else 0.0
-        self.obj.lengdiv = 1.0 if self.lengthening_divisor else 0.0
+        self.configure_movement()
         self.obj.substeps = float(self.substeps)
         if not self.fixed_step_only:
             _set_atolscale(self.suffix, tuple((s.name, s.atolscale) for s in self.states))
-
-    def set_movement_onset(self, onset_ms: float | None) -> None:
-        """Start eq 19's movement clock at onset_ms (ms); None: the muscle never moves."""
-        if onset_ms is not None:
-            self.obj.onset = float(onset_ms)
 
     def asymptote_steps(self) -> int:
         """Fixed (muscle) steps that ended beyond 95 % of the Mashima asymptote (the CE was yielding)."""
