@@ -5,7 +5,7 @@ Grounding of the pool definition:
 - units and forces: Fuglevand, Winter & Patla 1993 (J Neurophysiol 70:2470) spread twitch forces exponentially over
   a 100-fold range across the pool, most units small; the same P0 spread here (neuromuscle.pool.p0_spread_N),
   scaled so the unit P0s sum to 600 N (a human tibialis anterior order of magnitude).  --full: 800 units (the
-  size the issue names; human TA is estimated at a few hundred units, McComas 1998 Muscle Nerve 21:1339), default
+  size of the benchmark pool; human TA is estimated at a few hundred units, McComas 1998 Muscle Nerve 21:1339), default
   20 units.
 - types: 70 % S, 20 % FR, 10 % FF (human TA is about 70-75 % type I fibres: Johnson, Polgar, Weightman &
   Appleton 1973 J Neurol Sci 18:111); twitch speed by type from neuromuscle.pool.TWITCH_SPEED; motoneuron size

@@ -80,9 +80,15 @@ def run_fit(data_path: str | Path, out_dir: str | Path, *, params: str | Path = 
             overwrite: bool = False) -> dict[str, Any]:
     """Fit ``data_path`` (measured-data HDF5) from the parameter set ``params``; write the report into
     ``out_dir`` (see the module docstring); an existing report there is kept unless overwrite.  intervals: the
-    fit's interval method (``neuromuscle.fit.INTERVAL_METHODS``; default mode only).  Returns the content of
-    fit.json."""
+    fit's interval method (``neuromuscle.fit.INTERVAL_METHODS``).  ``trials`` and a non-default ``intervals`` apply to
+    the default fit only: with ``staged`` they are refused (InputError).  Returns the content of fit.json."""
     check_out_dir(out_dir, overwrite, REPORT_FILES)
+    if staged and trials:
+        raise InputError("--trials chooses the trials of the default fit; the staged calibration takes each stage's "
+                         "trials from the file itself (give one or the other)")
+    if staged and intervals != INTERVAL_METHODS[0]:
+        raise InputError(f"--intervals applies to the default fit; the staged calibration's intervals are its "
+                         f"Module 2 stage's ({INTERVAL_METHODS[0]})")
     data = read_measured(data_path)
     base = load_parameters(params)
     free = list(free) if free else list(MODULE2_FREE)

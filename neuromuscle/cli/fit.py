@@ -15,7 +15,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     fp.add_argument("--free", default=None,
                     help="comma-separated free parameters (default C1,C2,C3,alpha; with --staged: of the Module 2 "
                          "stage)")
-    fp.add_argument("--trials", default=None, help="comma-separated trial ids (default: stimulated N/mm trials)")
+    fp.add_argument("--trials", default=None,
+                    help="comma-separated trial ids (default: stimulated N/mm trials; not with --staged)")
     fp.add_argument("--workers", type=int, default=1, help="parallel simulation processes (>= 1)")
     fp.add_argument("--staged", action="store_true",
                     help="seed staged calibration: Module 3 -> Module 2 (--free) -> length compensation")
@@ -25,7 +26,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     fp.add_argument("--max-iterations", type=int, default=30, help="optimiser iterations")
     fp.add_argument("--intervals", default="hac+integrator",
                     help="how the 95 %% intervals are made: hac+integrator (default: HAC covariance plus the "
-                         "integrator's error), hac, or iid (the old s^2 (J^T J)^-1)")
+                         "integrator's error), hac, or iid (the textbook s^2 (J^T J)^-1); not with --staged")
     fp.add_argument("--quiet", action="store_true", help="no per-iteration progress")
     fp.add_argument("--overwrite", action="store_true", help="replace an existing report in --out")
     fp.set_defaults(func=run)

@@ -106,7 +106,7 @@ def parse_assignments(text: str, bad: Callable[[str], str]) -> dict[str, float]:
 
 
 def parse_extensions(items: list[str]) -> dict[str, dict[str, float]]:
-    """``["fatigue", "staircase:gain=0.2,tau_ms=500"]`` -> {name: {param: value}}; InputError on bad syntax."""
+    """``["fatigue", "staircase:k=0.2,tau=500"]`` -> {name: {param: value}}; InputError on bad syntax."""
     out: dict[str, dict[str, float]] = {}
     for item in items:
         name, _, rest = item.partition(":")

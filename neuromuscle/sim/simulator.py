@@ -109,7 +109,8 @@ class Simulator:
 
     rtol is 1e-7, not 1e-6: Module 3's state (the CE length change dxce, mm) grows with the length excursion, and
     rtol |dxce| at 1e-6 let a weak unit's force err by up to 1.3 % of its peak where the series element takes up
-    slack under random length (sweep draws 476 and 962); 1e-7 costs 1.2-1.7x the CVODE time under movement.
+    slack under random length (two draws of the accuracy sweep, ``neuromuscle bench sweep``); 1e-7 costs 1.2-1.7x
+    the CVODE time under movement.
 
     CVODE cannot hang: each run has a wall-time budget ``max_wall_s`` (s) and a step budget ``max_steps``, checked
     after every CVODE step; a run that spends either stops with a NumericalError naming ``label`` and the time

@@ -76,6 +76,14 @@ def test_fit_unknown_free_and_trial(small_file, tmp_path, capsys):
     assert "nope" in capsys.readouterr().err
 
 
+def test_staged_refuses_the_default_fits_trials_and_intervals(small_file, tmp_path, capsys):
+    assert main(["fit", str(small_file), "--out", str(tmp_path / "o"), "--staged", "--trials", "twitch_opt"]) == 2
+    assert "--trials" in capsys.readouterr().err
+    assert main(["fit", str(small_file), "--out", str(tmp_path / "o"), "--staged", "--intervals", "iid"]) == 2
+    assert "--intervals" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
 def test_existing_report_is_not_overwritten(tmp_path):
     out = tmp_path / "out"
     out.mkdir()

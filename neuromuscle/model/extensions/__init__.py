@@ -148,7 +148,8 @@ def mechanism_extensions() -> list[type[Extension]]:
 
 
 def make_extensions(spec: Mapping[str, Mapping[str, float]] | None) -> dict[str, Extension]:
-    """Instantiate extensions from ``{"staircase": {"gain": 0.1}, ...}`` (parameter overrides per extension)."""
+    """Instantiate extensions from ``{"staircase": {"k": 0.2, "tau": 500.0}, ...}`` (parameter overrides per
+    extension)."""
     if not spec:
         return {}
     known = registry()
