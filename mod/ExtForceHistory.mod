@@ -17,9 +17,10 @@ shortening of amplitude dX at force F raises D by about (F/P0) dX/L.  Isometric 
 Units: k 1, L mm, tau ms, Xm and XCE mm, Vm mm/s, P0 N, KSE /mm.
 Neutral: k = 0 (offset exactly 0: F = Fse + 0, bit-identical to the baseline in fixed step).
 
-Coupling: POINTER xm, vm -> MuscleLength (mm, mm/s); POINTER xce -> KimForce's STATE XCE (mm), P0, KSE -> its
-parameters (N, /mm): the SE force is computed here from states, so it is that of the current evaluation even
-though this mechanism is evaluated before KimForce (a RANGE Fse read from KimForce would lag one evaluation).
+Coupling: POINTER xm, vm -> MuscleLength (mm, mm/s); POINTER dxce, x0 -> KimForce's CE length change (STATE,
+mm) and reference length (mm), P0, KSE -> its parameters (N, /mm): the SE force is computed here from states, so
+it is that of the current evaluation even though this mechanism is evaluated before KimForce (a RANGE Fse read
+from KimForce would lag one evaluation).
 Exposes RANGE offset (N) for POINTER KimForce.force_offset, and D.
 Numerics: D' is linear in D with a coefficient frozen over the step: METHOD cnexp in fixed step; CVODE integrates
 the same DERIVATIVE.  O(1) per step.

@@ -11,7 +11,8 @@ Writes into DIR (refused when DIR already holds a report, unless overwrite; chec
 * ``report.md``       the causes named first, then each step with its figures, the backward check, the trials' errors,
   the rules;
 * ``params.json``     the final model (the baseline plus every cause named); ``neuromuscle simulate --params
-  DIR/params.json --extension NAME ...`` runs it;
+  DIR/params.json --no-length-compensation --extension NAME ...`` runs it (the diagnosis's models have eq 18 off
+  unless length_dependent_activation is named);
 * ``figures/*.png``   measured vs the model before and after each named cause on its deciding held-out trials,
   and the baseline's residual against its best explanatory variable.
 """
@@ -276,7 +277,8 @@ def markdown(doc: dict[str, Any]) -> str:
     """report.md: the causes named first, then each step, the trials' errors, the rules."""
     lines = [f"# Diagnosis of `{doc['data']}`", ""] + _headline(doc)
     ext_args = " ".join(f"--extension {e}" for e in doc["final"]["extensions"])
-    lines += [f"Final model: `params.json` (`neuromuscle simulate --params params.json {ext_args}`).", ""]
+    lines += [f"Final model: `params.json` (`neuromuscle simulate --params params.json --no-length-compensation "
+              f"{ext_args}`; eq 18 is on only when length_dependent_activation is named).", ""]
     for s in doc["steps"]:
         lines += [f"## Step {s['step']}: from {' + '.join(['baseline'] + s['model_before']['extensions'])}", ""]
         lines.append(f"Named: **{', '.join(s['named'])}**" + (" (together)." if len(s["named"]) > 1 else ".")

@@ -115,7 +115,8 @@ def mechanism_hash() -> str:
 
 
 def cache_root() -> Path:
-    """Root of the compiled-mechanism cache (``$NEUROMUSCLE_CACHE`` or ``~/.cache/neuromuscle``)."""
+    """Root of the compiled-mechanism cache: ``$NEUROMUSCLE_CACHE``, else ``$XDG_CACHE_HOME/neuromuscle``, else
+    ``~/.cache/neuromuscle``."""
     env = os.environ.get("NEUROMUSCLE_CACHE")
     if env:
         return Path(env)

@@ -17,7 +17,7 @@ history that fades within a tenth of a second is not residual, it follows the mo
 preparation's force-velocity misfit on the moving trials (with a lower bound of 100 ms, synthetic null preparations
 were named force depression at that bound).  The diagnosis suite's hidden effects fit tau 1044-1825 ms (depression)
 and 3960 ms and more (enhancement), the cat soleus stretches of Herzog & Leonard 2002 5.3 s.
-Only one of the two can be selected at a time (both drive KimForce's force_offset port).
+The two can be selected together: both drive KimForce's force_offset port, where a PortCombine adds their offsets.
 """
 
 from __future__ import annotations
