@@ -8,8 +8,9 @@
 * **Packed runs** (:func:`simulate_pairs`).  The (parameter set, trial) pairs of one call run together, as units
   of one NEURON run (up to ``BATCH_UNITS``), the runs of one trial and of trials of similar duration alike: a lone
   unit spends most of each step in NEURON's per-mechanism overhead, which the units of a run share.  Each unit is
-  the fused KimUnit (with its extensions), whose force is bit for bit the three mechanisms' at a lower cost per
-  step, and bit for bit its own run's (``neuromuscle.sim.simulate_protocols``).
+  the fused unit in its fixed-step form, KimUnitFixed (with its extensions), whose force is bit for bit the three
+  mechanisms' and KimUnit's at a lower cost per step (no METHOD euler loop per unit, which only CVODE needs), and
+  bit for bit its own run's (``neuromuscle.sim.simulate_protocols``, always the fixed step).
 * **Trial pool** (:class:`TrialPool`, ``fit(..., workers=N)`` or ``fit(..., pool=)``).  The work is split into
   packed runs, longest first, small enough that every worker gets several: a single candidate (a trust-region
   step, the final run, the half-step re-run of the intervals) then uses every worker too, and a Jacobian's
@@ -116,7 +117,8 @@ def simulate_pairs(pairs: Sequence[tuple[ParameterSet, Trial, SimulationOptions]
         results = simulate_protocols(
             [(pairs[c][0], {name: {} for name in pairs[c][2].extensions} or None, index[id(pairs[c][1])])
              for c in pack], protocols,
-            excitation=kim_fused(opts.length_compensation, opts.movement_compensation), record=("muscle.F",),
+            excitation=kim_fused(opts.length_compensation, opts.movement_compensation, fixed_step=True),
+            record=("muscle.F",),
             dt_ms=opts.dt_ms, record_dt_ms=opts.dt_ms if opts.record_dt_ms is None else opts.record_dt_ms,
             differenced=opts.differenced)
         for c, res in zip(pack, results):
