@@ -123,7 +123,8 @@ def test_the_other_causes_are_defined_on_their_telling_trials(plan):
         assert bool(where_defined(stair, plan, tid, OPT).mask.all()) is expect
     assert where_defined(move, plan, "random_length10", OPT).mask.all()
     assert tells(c["length_dependent_activation"].telling, plan["train10_short"], OPT)
-    assert not tells(c["length_dependent_activation"].telling, plan["train40_short"], OPT)  # > 20 Hz
+    assert tells(c["length_dependent_activation"].telling, plan["train40_short"], OPT)  # at any rate
+    assert not tells(c["length_dependent_activation"].telling, plan["train40_opt"], OPT)
     assert tells(c["fatigue"].telling, plan["long_train30_opt"], OPT)
     assert tells(c["doublet_potentiation"].telling, plan["doublet5_opt"], OPT)
     assert tells(c["post_activation_potentiation"].telling, plan["potentiation_opt"], OPT)
