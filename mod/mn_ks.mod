@@ -50,14 +50,11 @@ BREAKPOINT {
 }
 
 INITIAL {
-    m = ks_minf(v)
+    m = gate_inf(v, vhalf, slope)
 }
 
 DERIVATIVE states {
-    m' = (ks_minf(v) - m) / mtau
+    m' = (gate_inf(v, vhalf, slope) - m) / mtau
 }
 
-FUNCTION ks_minf(v (mV)) (1) {
-    : m_inf = 1/(1 + exp(-(v - vhalf)/slope))
-    ks_minf = 1 / (1 + exp(-(v - vhalf) / slope))
-}
+INCLUDE "mn_gate.inc"

@@ -45,6 +45,11 @@ Late adaptation (``g_ks_S_per_cm2``, off by default): a slow potassium current i
 each spike activates a little and that decays with ``ks_tau_ms``, so that a steady discharge slows over seconds,
 the faster cells more (Kernell & Monster 1982).
 
+Minimum rate (``g_km_S_per_cm2``, off by default): an M-like potassium current in the soma (mod/mn_km.mod,
+half-activated at ``km_vhalf_mV``, time constant ``km_tau_ms``) that makes the onset of repetitive firing abrupt,
+so that a cell fires at or above a minimum steady rate near the inverse of its AHP duration or not at all (Kernell
+1965), where without it a cell with its PIC on fires ever more slowly as its drive approaches threshold.
+
 Where the PIC sits (``pic_start_x``, 0 by default: the whole dendrite): the L-type channels of cat motoneurons lie
 in the dendrites away from the soma, in hot spots farther out in larger cells (Elbasiouny, Bennett & Mushahwar
 2005: 300-850 um from the soma; Grande, Bui & Rose 2007); ``pic_start_x`` leaves the dendrite's proximal part (that
@@ -134,6 +139,10 @@ class MotoneuronParameters:
     neuromodulation: float = HUMAN_NEUROMODULATION
     g_ks_S_per_cm2: float = 0.0
     ks_tau_ms: float = 10000.0
+    g_km_S_per_cm2: float = 0.0
+    km_vhalf_mV: float = -55.0
+    km_slope_mV: float = 4.0
+    km_tau_ms: float = 100.0
     pic_start_x: float = 0.0
     dend_nseg: int = 3
 
@@ -145,7 +154,7 @@ class MotoneuronParameters:
             if f.name in ("unit_type", "size", "dend_nseg"):
                 continue
             v = finite_number(f"{where}: {f.name}", getattr(self, f.name))
-            negative_ok = f.name.endswith("_mV")
+            negative_ok = f.name.endswith("_mV") and "slope" not in f.name     # a gate's slope must be > 0
             zero_ok = f.name.startswith("g_") or f.name == "neuromodulation"
             if f.name == "pic_start_x":
                 if not 0.0 <= v < 1.0:
@@ -363,12 +372,18 @@ class Motoneuron:
         self._insert_slow_adaptation()
 
     def _insert_slow_adaptation(self) -> None:
-        """The soma's slow potassium current mn_ks (late adaptation) when g_ks_S_per_cm2 > 0; nothing otherwise."""
+        """The soma's slow potassium currents, each only when its conductance is > 0: mn_ks (late adaptation,
+        g_ks_S_per_cm2) and mn_km (the M-like current that sets a minimum steady rate, g_km_S_per_cm2)."""
         p = self.params
         if p.g_ks_S_per_cm2 > 0:
             self.soma.insert("mn_ks")
             m = self.soma(0.5).mn_ks
             m.gbar, m.mtau, m.ek = p.g_ks_S_per_cm2, p.ks_tau_ms, p.ek_mV
+        if p.g_km_S_per_cm2 > 0:
+            self.soma.insert("mn_km")
+            m = self.soma(0.5).mn_km
+            m.gbar, m.mtau, m.ek = p.g_km_S_per_cm2, p.km_tau_ms, p.ek_mV
+            m.vhalf, m.slope = p.km_vhalf_mV, p.km_slope_mV
 
     @property
     def fused_mechanisms(self) -> tuple[str, str]:
