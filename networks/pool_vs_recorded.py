@@ -23,7 +23,8 @@ The units are not matched one to one.
 
 Run: python networks/pool_vs_recorded.py --out DIR [--file F.mat ...] [--units N] [--corrections K] [--full]
                                           [--seed S] [--depth-attenuation A] [--neuromodulation NM]
-                                          [--set NAME=VALUE ...] [--p0-spread published|recording]
+                                          [--set NAME=VALUE ...] [--scale NAME=FACTOR ...]
+                                          [--p0-spread published|recording]
 Default: S1_30_36L.mat, 40 units, one correction, seed 0, the module's depth attenuation.  --full: every file, 80
 units.  The depth attenuation was estimated on S1_30_256 with
 ``python -m neuromuscle.pool.identification DIR/S1_30_256.json`` (40 units).  Writes, per file,
@@ -49,7 +50,7 @@ from neuromuscle.pool.follow_force import (FIT_SEEDS, HUMAN_MUSCLES, Calibration
                                           fit_p0_spread_to_recording, run_drive)
 from neuromuscle.pool.follow_force import follow as follow_force
 from neuromuscle.pool.identification import DEFAULT_SEED, DEPTH_ATTENUATION, IdentificationModel
-from neuromuscle.pool.motoneuron import parse_settings
+from neuromuscle.pool.motoneuron import motoneuron_parameters, parse_settings
 from neuromuscle.pool.recorded_comparison import Comparison, compare_discharges
 from neuromuscle.reports.figures import label_axes, legend, new_figure, save_figure, set_title
 from neuromuscle.reports.outdir import prepare_out_dir
@@ -221,6 +222,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                     help="the motoneurons' PIC strength (default neuromuscle.pool.motoneuron.HUMAN_NEUROMODULATION)")
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="a motoneuron parameter replaced in every cell, e.g. g_ks_S_per_cm2=0.03 (repeatable)")
+    ap.add_argument("--scale", action="append", default=[], metavar="NAME=FACTOR",
+                    help="a size-dependent motoneuron parameter multiplied in every cell, on top of the muscle's own "
+                         "scales, e.g. ca_decay_ms=1.5 (AHPs half as long again; repeatable)")
     ap.add_argument("--p0-spread", choices=("published", "recording"), default="published",
                     help="fit the muscle units' P0 spread to the muscle's published thresholds (once per muscle) or "
                          "to each recording's thresholds as a decomposition would sample them")
@@ -230,6 +234,11 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         overrides = parse_settings(a.set)
     except InputError as e:
         ap.error(f"--set: {e}")
+    try:
+        scales = parse_settings(a.scale)
+        motoneuron_parameters(0.0, scales=scales)
+    except InputError as e:
+        ap.error(f"--scale: {e}")
     options: dict[str, Any] = {"motoneuron_overrides": overrides}
     if a.neuromodulation is not None:
         options["neuromodulation"] = a.neuromodulation
@@ -246,7 +255,11 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     for path in paths:
         m = muscle_of(path)
         if m not in calibrations:
-            cal = calibrate(HUMAN_MUSCLES[m].definition(n, **options), dt_ms=a.dt_ms)
+            muscle_scales = dict(HUMAN_MUSCLES[m].motoneuron_scales)
+            for k, f in scales.items():
+                muscle_scales[k] = muscle_scales.get(k, 1.0) * f
+            cal = calibrate(HUMAN_MUSCLES[m].definition(n, motoneuron_scales=muscle_scales, **options),
+                            dt_ms=a.dt_ms)
             calibrations[m] = (cal, cal.fit_p0_spread(HUMAN_MUSCLES[m]))
             sp = calibrations[m][1]
             print(f"{m}: P0 range {sp.range_ratio:.3g}, exponent {sp.exponent:.3g}, MVC drive "
@@ -273,7 +286,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                         "fit_seeds": [FIT_SEEDS.start, FIT_SEEDS.stop - 1] if a.p0_spread == "recording" else None,
                         "mvc_drive_uS": spread.mvc_drive_uS, "thresholds_rms_percent": spread.rms_error_percent,
                         "neuromodulation": cal.definition.neuromodulation,
-                        "motoneuron_overrides": dict(cal.definition.motoneuron_overrides)},
+                        "motoneuron_overrides": dict(cal.definition.motoneuron_overrides),
+                        "motoneuron_scales": dict(cal.definition.motoneuron_scales)},
                "identification": {**ident_model.provenance(), "motor_units": HUMAN_MUSCLES[m].motor_units},
                "units": unit_table(cmp, spread.p0_N(cal.rank)),
                "recorded_thresholds_percent_mvc": [float(x) for x in cmp.recorded.thresholds_percent]}

@@ -1,6 +1,7 @@
 """Current-clamp measurements of one motoneuron (any cell of the pool's interface, ``pool.cells``): rheobase, AHP
 duration, f-I slope, hysteresis on a triangle, self-sustained firing, the rates under a common synaptic drive,
-and the recruitment hysteresis and paired-unit Delta F of cells under one slow synaptic triangle.
+and the lowest steady rate under a constant synaptic drive, and the recruitment hysteresis and paired-unit Delta F of
+cells under one slow synaptic triangle.
 
 Each builds its own IClamp at the soma, runs through the Simulator (fixed step, from ``v_init_mV``) and removes
 the clamp.  ``python -m neuromuscle.pool.excitability`` prints the cells' figures (S to FF) as JSON;
@@ -167,6 +168,26 @@ def synaptic_rates_hz(cell: MotoneuronCell, conductances_uS: Sequence[float], du
         late = sp[sp >= skip_ms]
         out.append((late.size - 1) * 1000.0 / (late[-1] - late[0]) if late.size > 2 else 0.0)
     return np.array(out)
+
+
+def minimum_synaptic_rate(cell: MotoneuronCell, upper_uS: float = 1.0, tolerance: float = 0.002,
+                          duration_ms: float = 3000.0, skip_ms: float = 1500.0) -> tuple[float, float]:
+    """The smallest constant common synaptic conductance (uS, within a relative ``tolerance``) under which the cell
+    fires steadily (``synaptic_rates_hz`` after skip_ms > 0), found by bisection, and its steady rate (Hz) there:
+    the lower limit of steady discharge that Kernell 1965 related to the AHP's duration."""
+    if synaptic_rates_hz(cell, [upper_uS], duration_ms, skip_ms)[0] <= 0:
+        raise ValueError(f"{cell.name}: no steady discharge even at {upper_uS} uS")
+    lo, hi, rate = 0.0, upper_uS, 0.0
+    while hi - lo > tolerance * hi:
+        mid = 0.5 * (lo + hi)
+        r = synaptic_rates_hz(cell, [mid], duration_ms, skip_ms)[0]
+        if r > 0:
+            hi, rate = mid, float(r)
+        else:
+            lo = mid
+    if rate == 0.0:
+        rate = float(synaptic_rates_hz(cell, [hi], duration_ms, skip_ms)[0])
+    return hi, rate
 
 
 @dataclass(frozen=True)

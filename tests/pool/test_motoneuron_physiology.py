@@ -9,7 +9,8 @@ Published ranges (means +- about 2 SD of the cited samples, widened where studie
 - f-I slope of the steady discharge: primary range 1-4 Hz/nA, the secondary range steeper (Kernell 1965;
   Powers & Binder 2001);
 - paired-unit Delta F of human motor units 2-7 Hz (Gorassini, Yang, Eken & Bennett 2002; Hassan et al. 2020);
-- bistability (firing outlasting a brief pulse) with strong monoaminergic drive (Lee & Heckman 1998).
+- bistability (firing outlasting a brief pulse) with strong monoaminergic drive (Lee & Heckman 1998);
+- a minimum steady rate, lower in cells with a longer AHP (Kernell 1965), given by the M-like current.
 The cell's input resistance is the one NEURON's 0-Hz impedance gives, checked against a current step here.
 """
 
@@ -18,8 +19,8 @@ import pytest
 
 from neuromuscle.pool import discharge_stats
 from neuromuscle.pool.excitability import (ahp_duration_ms, clamp_run, fi_slope_Hz_per_nA,
-                                           input_resistance_step_MOhm, rheobase_nA, self_sustained_ms,
-                                           synaptic_rates_hz, synaptic_triangle)
+                                           input_resistance_step_MOhm, minimum_synaptic_rate, rheobase_nA,
+                                           self_sustained_ms, synaptic_rates_hz, synaptic_triangle)
 from neuromuscle.pool.motoneuron import HUMAN_NEUROMODULATION, Motoneuron, motoneuron_parameters
 
 S, FF = 0.0, 1.0
@@ -119,6 +120,21 @@ def test_self_sustained_firing_with_strong_neuromodulation(rheobases):
         assert self_sustained_ms(mn, bias, rheobases[S]) > 2500.0
     with _cell(S, 0.0) as mn:
         assert self_sustained_ms(mn, bias, rheobases[S]) == 0.0
+
+
+@pytest.mark.parametrize("size", [0.0, 0.5])
+def test_the_m_current_sets_a_minimum_rate_near_the_inverse_ahp(size):
+    # with the PIC on and no M current the cell fires ever more slowly as the drive nears threshold; with it the
+    # lowest steady rate is near 1000 / AHP duration (ms), as Kernell 1965 found it tied to the AHP
+    with Motoneuron(motoneuron_parameters(size, neuromodulation=HUMAN_NEUROMODULATION)) as mn:
+        inverse_ahp = 1000.0 / ahp_duration_ms(mn)
+        _, bare = minimum_synaptic_rate(mn)
+    with Motoneuron(motoneuron_parameters(size, neuromodulation=HUMAN_NEUROMODULATION,
+                                          g_km_S_per_cm2=0.002)) as mn:
+        _, with_m = minimum_synaptic_rate(mn)
+        assert mn.soma(0.5).mn_km.gbar == 0.002
+    assert bare < 0.5 * inverse_ahp
+    assert 0.8 * inverse_ahp <= with_m <= 1.3 * inverse_ahp
 
 
 def test_excitability_command_rejects_a_setting_without_a_value(capsys):
