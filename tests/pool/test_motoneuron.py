@@ -146,6 +146,13 @@ def test_command_line_settings_name_their_fault():
             parse_settings([bad])
 
 
+def test_a_gate_slope_must_be_positive():
+    for name in ("cal_slope_mV", "km_slope_mV"):
+        with pytest.raises(InputError, match=name):
+            motoneuron_parameters(0.0, **{name: 0.0})
+    assert motoneuron_parameters(0.0, km_vhalf_mV=-60.0).km_vhalf_mV == -60.0   # a half-activation may be < 0
+
+
 def test_a_synaptic_drive_outlives_the_callers_time_vector():
     import gc
 
