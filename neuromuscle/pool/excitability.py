@@ -1,12 +1,13 @@
 """Current-clamp measurements of one motoneuron (any cell of the pool's interface, ``pool.cells``): rheobase, AHP
-duration, f-I slope, hysteresis on a triangle, self-sustained firing, the rates under a common synaptic drive,
-and the lowest steady rate under a constant synaptic drive, and the recruitment hysteresis and paired-unit Delta F of
+duration, f-I slope, hysteresis on a triangle, self-sustained firing, the rates under a common synaptic drive, the
+lowest steady rate under a constant synaptic drive, and the recruitment hysteresis and paired-unit Delta F of
 cells under one slow synaptic triangle.
 
 Each builds its own IClamp at the soma, runs through the Simulator (fixed step, from ``v_init_mV``) and removes
 the clamp.  ``python -m neuromuscle.pool.excitability`` prints the cells' figures (S to FF) as JSON;
-``--synaptic-triangle NM [NM ...]`` the synaptic triangle's figures at those neuromodulations instead
-(``--set NAME=VALUE``: a motoneuron parameter replaced in every cell, e.g. ``--set cal_vhalf_mV=-50``).
+``--synaptic-triangle NM [NM ...]`` the synaptic triangle's figures at those neuromodulations instead, and
+``--minimum-rate NM [NM ...]`` the lowest steady rates (``--set NAME=VALUE``: a motoneuron parameter replaced in
+every cell, e.g. ``--set cal_vhalf_mV=-50``).
 Units: nA, ms, mV, Hz, uS.
 """
 
@@ -258,6 +259,17 @@ def cell_facts(size: float, neuromodulation: float = 0.0) -> dict[str, float]:
                 "fi_primary_Hz_per_nA": primary, "fi_secondary_Hz_per_nA": secondary}
 
 
+def minimum_rate_facts(size: float, neuromodulation: float, **overrides: Any) -> dict[str, Any]:
+    """The cell at ``size`` (0..1), ``neuromodulation`` and ``overrides`` (motoneuron parameters): its lowest
+    steady rate under a constant synaptic drive (Hz), the drive there (uS) and its AHP duration (ms)."""
+    from .motoneuron import motoneuron_parameters
+
+    with Motoneuron(motoneuron_parameters(size, neuromodulation=neuromodulation, **overrides)) as mn:
+        drive, rate = minimum_synaptic_rate(mn, upper_uS=2.0)
+        return {"size": size, "neuromodulation": neuromodulation, "overrides": overrides,
+                "minimum_rate_hz": rate, "drive_uS": drive, "ahp_ms": ahp_duration_ms(mn)}
+
+
 def main(argv: Sequence[str] | None = None) -> list[dict[str, Any]]:
     """Command line (module docstring); prints and returns the figures."""
     import argparse
@@ -266,9 +278,12 @@ def main(argv: Sequence[str] | None = None) -> list[dict[str, Any]]:
     ap = argparse.ArgumentParser(description="The motoneurons' figures, S to FF, as JSON.")
     ap.add_argument("--synaptic-triangle", type=float, nargs="+", metavar="NM",
                     help="cells of sizes 0, 0.1, ..., 0.6 under a synaptic triangle, 10 s each way, at each NM")
+    ap.add_argument("--minimum-rate", type=float, nargs="+", metavar="NM",
+                    help="cells of sizes 0, 0.3, 0.6: the lowest steady rate under a constant synaptic drive, the "
+                         "drive there and the AHP duration, at each NM")
     ap.add_argument("--peak-uS", type=float, default=0.3, help="the synaptic triangle's peak (uS)")
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                    help="a motoneuron parameter replaced in every cell (synaptic triangle only)")
+                    help="a motoneuron parameter replaced in every cell (synaptic triangle and minimum rate)")
     a = ap.parse_args(argv)
     try:
         overrides = parse_settings(a.set)
@@ -278,6 +293,8 @@ def main(argv: Sequence[str] | None = None) -> list[dict[str, Any]]:
         sizes = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6]
         out = [{**synaptic_triangle(sizes, nm, peak_uS=a.peak_uS, **overrides).summary(), "overrides": overrides}
                for nm in a.synaptic_triangle]
+    elif a.minimum_rate:
+        out = [minimum_rate_facts(x, nm, **overrides) for nm in a.minimum_rate for x in (0.0, 0.3, 0.6)]
     else:
         out = [cell_facts(x) for x in (0.0, 0.25, 0.5, 0.75, 1.0)]
     print(json.dumps(out, indent=1))

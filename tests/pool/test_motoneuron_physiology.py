@@ -122,19 +122,21 @@ def test_self_sustained_firing_with_strong_neuromodulation(rheobases):
         assert self_sustained_ms(mn, bias, rheobases[S]) == 0.0
 
 
-@pytest.mark.parametrize("size", [0.0, 0.5])
-def test_the_m_current_sets_a_minimum_rate_near_the_inverse_ahp(size):
-    # with the PIC on and no M current the cell fires ever more slowly as the drive nears threshold; with it the
+def test_the_m_current_sets_a_minimum_rate_near_the_inverse_ahp(capsys):
+    # with the PIC on and no M current a cell fires ever more slowly as the drive nears threshold; with it the
     # lowest steady rate is near 1000 / AHP duration (ms), as Kernell 1965 found it tied to the AHP
-    with Motoneuron(motoneuron_parameters(size, neuromodulation=HUMAN_NEUROMODULATION)) as mn:
+    from neuromuscle.pool.excitability import main
+
+    with _cell(0.3, HUMAN_NEUROMODULATION) as mn:
         inverse_ahp = 1000.0 / ahp_duration_ms(mn)
         _, bare = minimum_synaptic_rate(mn)
-    with Motoneuron(motoneuron_parameters(size, neuromodulation=HUMAN_NEUROMODULATION,
-                                          g_km_S_per_cm2=0.002)) as mn:
-        _, with_m = minimum_synaptic_rate(mn)
-        assert mn.soma(0.5).mn_km.gbar == 0.002
     assert bare < 0.5 * inverse_ahp
-    assert 0.8 * inverse_ahp <= with_m <= 1.3 * inverse_ahp
+    rows = main(["--minimum-rate", str(HUMAN_NEUROMODULATION), "--set", "g_km_S_per_cm2=0.002"])
+    assert [r["size"] for r in rows] == [0.0, 0.3, 0.6] and '"minimum_rate_hz"' in capsys.readouterr().out
+    for r in rows:
+        assert r["overrides"] == {"g_km_S_per_cm2": 0.002}
+        assert 0.8 * 1000.0 / r["ahp_ms"] <= r["minimum_rate_hz"] <= 1.3 * 1000.0 / r["ahp_ms"]
+    assert rows[0]["minimum_rate_hz"] < rows[1]["minimum_rate_hz"] < rows[2]["minimum_rate_hz"]
 
 
 def test_excitability_command_rejects_a_setting_without_a_value(capsys):
