@@ -45,8 +45,7 @@ STATE { m }
 
 BREAKPOINT {
     SOLVE states METHOD cnexp
-    g = gbar * m
-    i = g * (v - ek)
+    gated_current(v)
 }
 
 INITIAL {
