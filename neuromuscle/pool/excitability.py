@@ -20,6 +20,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..sim import Simulator
+from ..validate import positive_number
 from .cells import MotoneuronCell
 from .discharge_stats import DeltaF, delta_f
 from .motoneuron import Motoneuron, clear_synaptic_conductance, parse_settings
@@ -176,6 +177,9 @@ def minimum_synaptic_rate(cell: MotoneuronCell, upper_uS: float = 1.0, tolerance
     """The smallest constant common synaptic conductance (uS, within a relative ``tolerance``) under which the cell
     fires steadily (``synaptic_rates_hz`` after skip_ms > 0), found by bisection, and its steady rate (Hz) there:
     the lower limit of steady discharge that Kernell 1965 related to the AHP's duration."""
+    positive_number("minimum_synaptic_rate: upper_uS", upper_uS)
+    if not 0.0 < tolerance < 1.0:
+        raise InputError(f"minimum_synaptic_rate: tolerance must lie in (0, 1), got {tolerance!r}")
     if synaptic_rates_hz(cell, [upper_uS], duration_ms, skip_ms)[0] <= 0:
         raise ValueError(f"{cell.name}: no steady discharge even at {upper_uS} uS")
     lo, hi, rate = 0.0, upper_uS, 0.0

@@ -17,6 +17,7 @@ The cell's input resistance is the one NEURON's 0-Hz impedance gives, checked ag
 import numpy as np
 import pytest
 
+from neuromuscle.errors import InputError
 from neuromuscle.pool import discharge_stats
 from neuromuscle.pool.excitability import (ahp_duration_ms, clamp_run, fi_slope_Hz_per_nA,
                                            input_resistance_step_MOhm, minimum_synaptic_rate, rheobase_nA,
@@ -131,6 +132,10 @@ def test_the_m_current_sets_a_minimum_rate_near_the_inverse_ahp(capsys):
         inverse_ahp = 1000.0 / ahp_duration_ms(mn)
         _, bare = minimum_synaptic_rate(mn)
     assert bare < 0.5 * inverse_ahp
+    with _cell(0.3) as mn:
+        for bad in (dict(tolerance=0.0), dict(upper_uS=-1.0)):
+            with pytest.raises(InputError, match="minimum_synaptic_rate"):
+                minimum_synaptic_rate(mn, **bad)
     rows = main(["--minimum-rate", str(HUMAN_NEUROMODULATION), "--set", "g_km_S_per_cm2=0.002"])
     assert [r["size"] for r in rows] == [0.0, 0.3, 0.6] and '"minimum_rate_hz"' in capsys.readouterr().out
     for r in rows:
