@@ -180,18 +180,17 @@ def minimum_synaptic_rate(cell: MotoneuronCell, upper_uS: float = 1.0, tolerance
     positive_number("minimum_synaptic_rate: upper_uS", upper_uS)
     if not 0.0 < tolerance < 1.0:
         raise InputError(f"minimum_synaptic_rate: tolerance must lie in (0, 1), got {tolerance!r}")
-    if synaptic_rates_hz(cell, [upper_uS], duration_ms, skip_ms)[0] <= 0:
+    lo, hi = 0.0, upper_uS
+    rate = float(synaptic_rates_hz(cell, [hi], duration_ms, skip_ms)[0])
+    if rate <= 0:
         raise ValueError(f"{cell.name}: no steady discharge even at {upper_uS} uS")
-    lo, hi, rate = 0.0, upper_uS, 0.0
     while hi - lo > tolerance * hi:
         mid = 0.5 * (lo + hi)
-        r = synaptic_rates_hz(cell, [mid], duration_ms, skip_ms)[0]
+        r = float(synaptic_rates_hz(cell, [mid], duration_ms, skip_ms)[0])
         if r > 0:
-            hi, rate = mid, float(r)
+            hi, rate = mid, r
         else:
             lo = mid
-    if rate == 0.0:
-        rate = float(synaptic_rates_hz(cell, [hi], duration_ms, skip_ms)[0])
     return hi, rate
 
 

@@ -353,7 +353,7 @@ class Motoneuron:
                 pic.gbar, pic.vhalf, pic.slope = g, p.cal_vhalf_mV, p.cal_slope_mV
                 pic.gleak, pic.eleak = 1.0 / p.rm_dend_ohm_cm2, p.e_leak_mV
                 pic.substeps = pic_substeps
-            self._insert_slow_adaptation()
+            self._insert_slow_potassium()
             return
         for sec, rm in ((self.soma, p.rm_soma_ohm_cm2), (self.dend, p.rm_dend_ohm_cm2)):
             sec.insert("pas")
@@ -369,9 +369,9 @@ class Motoneuron:
         self.dend.insert("mn_cal")
         for s, g in zip(self.dend, p.pic_densities()):
             s.mn_cal.gbar, s.mn_cal.vhalf, s.mn_cal.slope = g, p.cal_vhalf_mV, p.cal_slope_mV
-        self._insert_slow_adaptation()
+        self._insert_slow_potassium()
 
-    def _insert_slow_adaptation(self) -> None:
+    def _insert_slow_potassium(self) -> None:
         """The soma's slow potassium currents, each only when its conductance is > 0: mn_ks (late adaptation,
         g_ks_S_per_cm2) and mn_km (the M-like current that sets a minimum steady rate, g_km_S_per_cm2)."""
         p = self.params
