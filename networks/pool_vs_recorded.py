@@ -174,8 +174,9 @@ def table(rows: list[dict[str, Any]]) -> list[str]:
     decomposition would identify ("ident.") side by side."""
     lines = ["| file | units rec / pool / ident. | force NRMSE % | median of medians Hz rec / pool / ident. | "
              "medians inside rec 5-95 % pool / ident. | peak Hz rec max / pool max (ratio) | thresholds KS pool / "
-             "ident. (ident. over 20 seeds: median, 5-95 %) | onion skin rho rec / pool / ident. | Delta F Hz rec "
-             "/ pool | plateau rate decline Hz rec / pool |",
+             "ident. (ident. over 20 seeds: median, 5-95 %; all 20 seeds' units together [by chance: median, "
+             "95 %]) | onion skin rho rec / pool / ident. | Delta F Hz rec / pool | plateau rate decline Hz rec / "
+             "pool |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         s, c = r["summary"], r["summary"]["criteria"]
@@ -198,11 +199,18 @@ def table(rows: list[dict[str, Any]]) -> list[str]:
 
 
 def _over_seeds(identified: dict[str, Any]) -> str:
-    """" (median, 5th-95th percentile)" of the identified units' KS distance over seeds, or ""."""
+    """" (median, 5th-95th percentile; all seeds [by chance: median, 95th percentile])" of the identified units'
+    KS distance over seeds, or ""."""
     if "over_seeds" not in identified:
         return ""
-    m, lo, hi = identified["over_seeds"]["thresholds_ks_median_p5_p95"]
-    return f" ({m:.2f}, {lo:.2f}-{hi:.2f})"
+    over = identified["over_seeds"]
+    m, lo, hi = over["thresholds_ks_median_p5_p95"]
+    text = f" ({m:.2f}, {lo:.2f}-{hi:.2f}"
+    if "thresholds_ks_expected" in over:
+        e = over["thresholds_ks_expected"]
+        c50, c95 = e["by_chance_p50_p95"]
+        text += f"; {e['value']:.2f} [{c50:.2f}, {c95:.2f}]"
+    return text + ")"
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:

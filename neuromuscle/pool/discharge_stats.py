@@ -273,3 +273,19 @@ def ks_distance(a: np.ndarray, b: np.ndarray, weights_a: np.ndarray | None = Non
     fa = ca[np.searchsorted(a[order], x, side="right")]
     fb = np.searchsorted(np.sort(b), x, side="right") / b.size
     return float(np.max(np.abs(fa - fb)))
+
+
+def ks_sampling_percentiles(values: np.ndarray, weights: np.ndarray, n: int, *, draws: int = 1000, seed: int = 0,
+                            percentiles: Sequence[float] = (50.0, 95.0)) -> list[float]:
+    """Percentiles of the KS distance between a distribution (``values`` with ``weights``) and samples of ``n``
+    values drawn from it (``draws`` samples, random ``seed``): how far a recording of ``n`` units would fall from
+    a model that is exactly right, by chance alone."""
+    v = np.asarray(values, float)
+    w = np.asarray(weights, float)
+    keep = np.isfinite(v) & (w > 0)
+    v, w = v[keep], w[keep]
+    if not v.size or n < 1:
+        return [float("nan")] * len(percentiles)
+    rng = np.random.default_rng(seed)
+    d = [ks_distance(v, rng.choice(v, int(n), p=w / w.sum()), w) for _ in range(int(draws))]
+    return [float(x) for x in np.percentile(d, list(percentiles))]

@@ -128,8 +128,16 @@ class Comparison:
 
     def identified_over_seeds(self, seeds: Sequence[int] = range(20)) -> dict[str, Any] | None:
         """How the identified units' thresholds KS distance and share of medians inside the recorded range vary
-        with the identification's seed (median and 5th-95th percentiles over ``seeds``; None without an
-        identification)."""
+        with the identification's seed (median and 5th-95th percentiles over ``seeds``), and the thresholds of the
+        units identified over all ``seeds`` together against the recorded ones (``thresholds_ks_expected``);
+        None without an identification.
+
+        One seed's identification is one possible sample of the pool, as the recording is one sample of the
+        muscle: two small samples differ by chance (two samples of 20 units from one distribution are a KS
+        distance of 0.25 or more apart more than half the time).  The identifications over every seed give the
+        distribution of thresholds a decomposition of this pool would find, and ``thresholds_ks_expected``
+        holds the recording against it, with the distance a recording of as many units drawn from that very
+        distribution would show by chance (median and 95th percentile)."""
         if self.identified is None:
             return None
         base = self.identified.identification
@@ -138,17 +146,25 @@ class Comparison:
         where = {int(u): k for k, u in enumerate(self.model_units)}
         lo, hi = self.medians_range_hz
         ks, inside = [], []
+        total = np.zeros(self.model_units.size)
         for seed in seeds:
             found = identify(self.identified.p0_N, active, base.count, motor_units=base.motor_units,
                              model=replace(base.model, seed=int(seed)))
             k = np.array([where[int(u)] for u in found.units], int)
+            total[k] += found.weights
             ks.append(ds.ks_distance(self.model.thresholds_percent[k], self.recorded.thresholds_percent,
                                      found.weights))
             med = self.model.rates.median_hz[k]
             inside.append(float(np.mean((med >= lo) & (med <= hi))))
+        thr = self.model.thresholds_percent
+        expected = ds.ks_distance(thr, self.recorded.thresholds_percent, total)
+        n_rec = int(np.isfinite(self.recorded.thresholds_percent).sum())
         return {"seeds": [int(x) for x in seeds], "thresholds_ks_median_p5_p95": _pct(ks),
                 "thresholds_ks_pass_fraction": float(np.mean(np.array(ks) <= KS_LIMIT)),
-                "medians_inside_fraction_median_p5_p95": _pct(inside)}
+                "medians_inside_fraction_median_p5_p95": _pct(inside),
+                "thresholds_ks_expected": {"value": expected, "limit": KS_LIMIT, "pass": bool(expected <= KS_LIMIT),
+                                           "recorded_units": n_rec,
+                                           "by_chance_p50_p95": ds.ks_sampling_percentiles(thr, total, n_rec)}}
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready: both sides and the criteria (and the identified units' beside them, when given)."""

@@ -66,6 +66,15 @@ def test_ks_distance_weighted_and_plain():
     assert ds.ks_distance(np.array([0.0, 1.0]), np.array([0.0]), weights_a=np.array([1.0, 0.0])) == 0.0
 
 
+def test_ks_by_chance_follows_kolmogorovs_distribution():
+    """Samples of 20 from a fine, even distribution: median KS about 0.83 / sqrt(20) and 95th percentile the
+    tabled critical value 0.294 (Massey 1951); a distribution of one value can only give 0."""
+    p50, p95 = ds.ks_sampling_percentiles(np.linspace(0.0, 1.0, 1000), np.ones(1000), 20, draws=2000)
+    assert 0.16 < p50 < 0.20 and 0.27 < p95 < 0.32
+    assert ds.ks_sampling_percentiles(np.array([3.0, 4.0]), np.array([1.0, 0.0]), 20, draws=50) == [0.0, 0.0]
+    assert np.isnan(ds.ks_sampling_percentiles(np.array([3.0]), np.array([0.0]), 20)).all()
+
+
 def test_plateau_window_and_bad_trains():
     t = np.arange(0.0, 1001.0, 1.0)
     assert ds.plateau_window_ms(t, np.interp(t, [0, 200, 800, 1000], [0, 10, 10, 0])) == (180.0, 820.0)

@@ -133,6 +133,10 @@ def test_the_comparison_holds_the_identified_units_beside_the_pool():
     assert sum(s["identified"]["identification"]["weights"]) == 6
     spread = s["identified"]["over_seeds"]["thresholds_ks_median_p5_p95"]
     assert spread == [0.0, 0.0, 0.0]                                # without depth the random seed does not matter
+    expected = s["identified"]["over_seeds"]["thresholds_ks_expected"]
+    assert expected["value"] == 0.0 and expected["pass"] and expected["recorded_units"] == 6
+    p50, p95 = expected["by_chance_p50_p95"]                       # six units drawn from six: chance shows
+    assert 0.0 < p50 <= p95 < 1.0
     whole, found = c.criteria(), c.identified_criteria()
     assert np.array_equal(c.identified.identification.units, np.arange(14, 20))
     assert found["thresholds_ks"]["value"] == 0.0 and not whole["thresholds_ks"]["pass"]
