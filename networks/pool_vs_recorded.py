@@ -236,6 +236,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--calibration-top-uS", type=float, default=1.2,
                     help="the calibration triangle's peak drive (uS): raise it for motoneurons that need more drive "
                          "to recruit the whole pool")
+    ap.add_argument("--calibration-ramp-ms", type=float, default=10000.0,
+                    help="the calibration triangle's rise (and fall) time (ms): a longer ramp rises at the pace of "
+                         "the recorded contractions, so the units' force at a given drive is that of the trial")
     ap.add_argument("--p0-spread", choices=("published", "recording"), default="published",
                     help="fit the muscle units' P0 spread to the muscle's published thresholds (once per muscle) or "
                          "to each recording's thresholds as a decomposition would sample them")
@@ -270,7 +273,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             for k, f in scales.items():
                 muscle_scales[k] = muscle_scales.get(k, 1.0) * f
             cal = calibrate(HUMAN_MUSCLES[m].definition(n, motoneuron_scales=muscle_scales, **options),
-                            dt_ms=a.dt_ms, top_uS=a.calibration_top_uS)
+                            dt_ms=a.dt_ms, top_uS=a.calibration_top_uS,
+                            ramp_ms=a.calibration_ramp_ms)
             calibrations[m] = (cal, cal.fit_p0_spread(HUMAN_MUSCLES[m]))
             sp = calibrations[m][1]
             print(f"{m}: P0 range {sp.range_ratio:.3g}, exponent {sp.exponent:.3g}, MVC drive "
@@ -299,7 +303,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                         "neuromodulation": cal.definition.neuromodulation,
                         "motoneuron_overrides": dict(cal.definition.motoneuron_overrides),
                         "motoneuron_scales": dict(cal.definition.motoneuron_scales),
-                        "calibration_top_uS": a.calibration_top_uS},
+                        "calibration_top_uS": a.calibration_top_uS,
+                        "calibration_ramp_ms": a.calibration_ramp_ms},
                "identification": {**ident_model.provenance(), "motor_units": HUMAN_MUSCLES[m].motor_units},
                "units": unit_table(cmp, spread.p0_N(cal.rank)),
                "recorded_thresholds_percent_mvc": [float(x) for x in cmp.recorded.thresholds_percent]}
