@@ -45,6 +45,10 @@ from .pool import Pool
 from .result import PoolResult
 
 
+#: Half the drive interval (fraction of the MVC drive) over which ``correct_drive`` measures a branch's slope.
+SLOPE_HALF_WIDTH = 0.025
+
+
 def _ta_thresholds(rank: np.ndarray) -> np.ndarray:
     return 0.5052 * (58.1 * rank + 120.0 ** (rank ** 1.83))
 
@@ -211,14 +215,16 @@ class Calibration:
                       lag_ms: float = 100.0, smooth_ms: float = 200.0, max_step: float = 0.1, gain: float = 1.0
                       ) -> tuple[np.ndarray, np.ndarray]:
         """One step of iterative learning control: the drive plus ``gain`` times the force error ``lag_ms`` later (the
-        muscle's delay) divided by the slope of the branch in use (rising before ``descent_ms``, falling after),
+        muscle's delay) divided by the slope of the branch in use (rising before ``descent_ms``, falling after; the
+        secant over +- ``SLOPE_HALF_WIDTH`` of the MVC drive),
         smoothed over ``smooth_ms`` (over the whole trial when it is shorter), each change at most ``max_step`` of the
         MVC drive, and the drive kept within the physiological range (0 to the MVC drive)."""
         (gu, fu), (gd, fd) = self.branches(spread.p0_N(self.rank))
         model = spread.percent_mvc(result.pool_force_N - result.pool_force_N[0])
         err = np.interp(times + lag_ms, t_ms, force_percent) - np.interp(times + lag_ms, result.t_ms, model)
         floor = 0.05 * spread.mvc_force / max(spread.mvc_drive_uS, 1e-12)
-        slope = np.where(times < descent_ms, _slope(gu, fu, drive), _slope(gd, fd, drive))
+        h = SLOPE_HALF_WIDTH * spread.mvc_drive_uS
+        slope = np.where(times < descent_ms, _slope(gu, fu, drive, h), _slope(gd, fd, drive, h))
         step = positive_number("gain", gain) * err * spread.mvc_force / 100.0 / np.maximum(slope, floor)
         k = min(max(int(round(smooth_ms / (times[1] - times[0]))), 1), step.size)   # a trial shorter than the window
         step = np.convolve(step, np.ones(k) / k, mode="same")
@@ -313,10 +319,11 @@ def follow(cal: Calibration, spread: P0Spread, t_ms: np.ndarray, force_percent: 
     return FollowedForce(best[0], best[1], best[2], best[3], tuple(errors))
 
 
-def _slope(g: np.ndarray, f: np.ndarray, at: np.ndarray) -> np.ndarray:
-    """d f / d g of a branch (N per uS) at the drives ``at``."""
-    dg = np.gradient(g)
-    return np.interp(at, g, np.gradient(f) / np.where(dg > 0, dg, np.inf))
+def _slope(g: np.ndarray, f: np.ndarray, at: np.ndarray, half_width_uS: float) -> np.ndarray:
+    """d f / d g of a branch (N per uS) at the drives ``at``: the secant over ``at`` +- ``half_width_uS``.  A
+    branch sampled every millisecond is a staircase of single twitches and recruitments (flat, then a jump), so
+    its point-by-point gradient is zero at some drives and many times the mean slope at others."""
+    return (np.interp(at + half_width_uS, g, f) - np.interp(at - half_width_uS, g, f)) / (2.0 * half_width_uS)
 
 
 def run_drive(definition: PoolDefinition, times_ms: np.ndarray, drive_uS: np.ndarray, duration_ms: float, *,

@@ -70,10 +70,12 @@ def test_pool_vs_recorded_briefly(tmp_path, network_script):
     script = network_script("pool_vs_recorded")
     s = script.main(["--out", str(tmp_path / "out"), "--units", "12", "--corrections", "1", "--dt-ms", "0.05",
                      "--neuromodulation", "0.6", "--set", "ks_tau_ms=8000",   # g_ks 0: the slow K stays out
-                     "--scale", "ca_decay_ms=1.1", "--calibration-top-uS", "1.3"])
+                     "--scale", "ca_decay_ms=1.1", "--calibration-top-uS", "1.3",
+                     "--calibration-ramp-ms", "12000"])
     row = s["files"][0]
     assert row["pool"]["motoneuron_overrides"] == {"ks_tau_ms": 8000.0} and row["pool"]["neuromodulation"] == 0.6
     assert row["pool"]["motoneuron_scales"] == {"ca_decay_ms": 1.1} and row["pool"]["calibration_top_uS"] == 1.3
+    assert row["pool"]["calibration_ramp_ms"] == 12000.0
     for bad in (["--set", "ks_tau_ms"], ["--scale", "ks_tau_ms=2"]):      # no value; not a size-dependent one
         with pytest.raises(SystemExit):
             script.main(["--out", str(tmp_path / "bad"), *bad])
