@@ -91,6 +91,27 @@ def test_the_drive_inverts_the_ramp_and_a_zero_error_leaves_it(cal):
     assert again.shape == drive[short].shape and np.all(np.isfinite(again))
 
 
+def test_the_correction_sees_through_a_staircase_branch(cal):
+    """A calibration sampled every millisecond rises in stairs (each twitch, each recruitment): the correction for a
+    1 % MVC error is the one the smooth branch gives, within 15 %, at every drive."""
+    t = np.arange(0.0, 80001.0, 1.0)
+    g = np.interp(t, [0.0, 40000.0, 80000.0], [0.0, 1.0, 0.0])
+    on = 0.1 * (np.arange(5) + 1)
+    stairs = np.clip(np.floor((g[None, :] - on[:, None]) / 0.3 * 40.0) / 40.0, 0.0, 1.0)
+    rough = Calibration(TA.definition(5), t, g, stairs, on, 40000.0)
+    s = cal.spread_for(5.0, 1.0, TA)
+    times = np.arange(0.0, 2001.0, 20.0)
+    steps = []
+    for c in (cal, rough):
+        drive = np.full(times.size, 0.45)
+        result = PoolResult(times, np.zeros((1, times.size)), [np.array([])], [{}], "synaptic")
+        target = np.full(times.size, 1.0)                               # 1 % MVC, the pool at rest
+        _, new = c.correct_drive(s, times, drive, result, times, target, lag_ms=0.0, smooth_ms=20.0)
+        steps.append(new - drive)
+    assert np.all(steps[0] > 0.0)
+    np.testing.assert_allclose(steps[1], steps[0], rtol=0.15)
+
+
 def test_a_small_pool_calibrates():
     cal = calibrate(TA.definition(3), top_uS=1.0, ramp_ms=1500.0, dt_ms=0.05)
     assert np.all(np.isfinite(cal.onset_uS)) and np.all(np.diff(cal.onset_uS) > 0)   # the size principle
