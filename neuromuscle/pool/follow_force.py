@@ -245,8 +245,11 @@ def fit_p0_spread_to_recording(cal: Calibration, muscle: HumanMuscle, recorded_t
     from ``seeds``, ``model``'s parameters) have the recruitment thresholds (% MVC, on the calibration ramp)
     closest to the recorded ones.  Active: the units recruited at or below ``level_percent`` (% MVC, the
     recording's plateau).  Range ratios 1.5-100 (unit forces span about 100-fold in human muscles: Enoka &
-    Fuglevand 2001) and exponents 0.25-30, log-spaced.  Returns (the spread, its mean KS distance); InputError when
-    no spread's active units stand for as many muscle units as were recorded."""
+    Fuglevand 2001) and exponents 0.25-30, log-spaced.  The distance is a KS distance of a few tens of units, noisy
+    from one spread to the next, so the spread chosen is the one whose distance averaged with its grid neighbours
+    (one step of range and of exponent either way) is smallest: a fit that holds when the spread changes a little,
+    not a lone grid point where the sampled identification happens to line up.  Returns (the spread, its own mean
+    KS distance); InputError when no spread's active units stand for as many muscle units as were recorded."""
     rec = np.asarray(recorded_thresholds_percent, float).ravel()
     rec = rec[np.isfinite(rec)]
     if not rec.size:
@@ -263,12 +266,29 @@ def fit_p0_spread_to_recording(cal: Calibration, muscle: HumanMuscle, recorded_t
         return identified_ks(spread.p0_N(cal.rank), active, thr, rec, motor_units=muscle.motor_units, model=m,
                              seeds=seeds)
 
-    best = cal.fit_p0_spread(muscle, np.geomspace(1.5, 100.0, 37), np.geomspace(0.25, 30.0, 23), distance)
-    d = distance(best)
-    if not np.isfinite(d):
+    ratios, powers = np.geomspace(1.5, 100.0, 37), np.geomspace(0.25, 30.0, 23)
+    grid = [[cal.spread_for(float(r), float(q), muscle) for q in powers] for r in ratios]
+    if all(sp is None for row in grid for sp in row):
+        cal.fit_p0_spread(muscle, ratios, powers)                 # raises: the ramp never reaches an MVC
+    d = np.array([[np.inf if sp is None else distance(sp) for sp in row] for row in grid])
+    if not np.isfinite(d).any():
         raise InputError(f"pool {cal.definition.name!r}: no P0 spread recruits enough units below "
                          f"{level_percent:g} % MVC for the recording's {rec.size} units")
-    return best, d
+    i, j = np.unravel_index(np.argmin(_neighbourhood_mean(d)), d.shape)
+    best = grid[i][j]
+    assert best is not None
+    return best, float(d[i, j])
+
+
+def _neighbourhood_mean(d: np.ndarray) -> np.ndarray:
+    """The mean of the finite values of each cell's 3 x 3 block of ``d`` (inf where the cell itself is not
+    finite)."""
+    finite = np.isfinite(d)
+    v = np.pad(np.where(finite, d, 0.0), 1)
+    c = np.pad(finite.astype(float), 1)
+    total = sum(v[1 + a:v.shape[0] - 1 + a, 1 + b:v.shape[1] - 1 + b] for a in (-1, 0, 1) for b in (-1, 0, 1))
+    count = sum(c[1 + a:c.shape[0] - 1 + a, 1 + b:c.shape[1] - 1 + b] for a in (-1, 0, 1) for b in (-1, 0, 1))
+    return np.where(finite, total / np.maximum(count, 1.0), np.inf)
 
 
 @dataclass(frozen=True)
