@@ -132,8 +132,8 @@ class Comparison:
         units identified over all ``seeds`` together against the recorded ones (``thresholds_ks_expected``);
         None without an identification.
 
-        One seed's identification is one possible sample of the pool, as the recording is one sample of the
-        muscle: two small samples differ by chance (two samples of 20 units from one distribution are a KS
+        The identification drawn with one seed is one possible sample of the pool, as the recording is one sample
+        of the muscle: two small samples differ by chance (two samples of 20 units from one distribution are a KS
         distance of 0.25 or more apart more than half the time).  The identifications over every seed give the
         distribution of thresholds a decomposition of this pool would find, and ``thresholds_ks_expected``
         holds the recording against it, with the distance a recording of as many units drawn from that very
