@@ -253,6 +253,10 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         motoneuron_parameters(0.0, scales=scales)
     except InputError as e:
         ap.error(f"--scale: {e}")
+    for flag, value in (("--calibration-top-uS", a.calibration_top_uS),
+                        ("--calibration-ramp-ms", a.calibration_ramp_ms)):
+        if not np.isfinite(value) or value <= 0.0:
+            ap.error(f"{flag} must be a number > 0, got {value}")
     options: dict[str, Any] = {"motoneuron_overrides": overrides}
     if a.neuromodulation is not None:
         options["neuromodulation"] = a.neuromodulation

@@ -284,6 +284,8 @@ def ks_sampling_percentiles(values: np.ndarray, weights: np.ndarray, n: int, *, 
     w = np.asarray(weights, float)
     keep = np.isfinite(v) & (w > 0)
     v, w = v[keep], w[keep]
+    if isinstance(draws, bool) or not isinstance(draws, (int, np.integer)) or draws < 1:
+        raise InputError(f"draws must be a positive integer, got {draws!r}")
     if not v.size or n < 1:
         return [float("nan")] * len(percentiles)
     rng = np.random.default_rng(seed)

@@ -73,6 +73,8 @@ def test_ks_by_chance_follows_kolmogorovs_distribution():
     assert 0.16 < p50 < 0.20 and 0.27 < p95 < 0.32
     assert ds.ks_sampling_percentiles(np.array([3.0, 4.0]), np.array([1.0, 0.0]), 20, draws=50) == [0.0, 0.0]
     assert np.isnan(ds.ks_sampling_percentiles(np.array([3.0]), np.array([0.0]), 20)).all()
+    with pytest.raises(InputError, match="draws"):
+        ds.ks_sampling_percentiles(np.array([3.0]), np.array([1.0]), 20, draws=0)
 
 
 def test_plateau_window_and_bad_trains():

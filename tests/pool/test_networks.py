@@ -76,7 +76,8 @@ def test_pool_vs_recorded_briefly(tmp_path, network_script):
     assert row["pool"]["motoneuron_overrides"] == {"ks_tau_ms": 8000.0} and row["pool"]["neuromodulation"] == 0.6
     assert row["pool"]["motoneuron_scales"] == {"ca_decay_ms": 1.1} and row["pool"]["calibration_top_uS"] == 1.3
     assert row["pool"]["calibration_ramp_ms"] == 12000.0
-    for bad in (["--set", "ks_tau_ms"], ["--scale", "ks_tau_ms=2"]):      # no value; not a size-dependent one
+    for bad in (["--set", "ks_tau_ms"], ["--scale", "ks_tau_ms=2"],      # no value; not a size-dependent one
+                ["--calibration-ramp-ms", "0"], ["--calibration-top-uS", "nan"]):
         with pytest.raises(SystemExit):
             script.main(["--out", str(tmp_path / "bad"), *bad])
     assert row["file"] == "S1_30_36L.mat" and row["muscle"] == "TA"
