@@ -279,7 +279,7 @@ def ks_sampling_percentiles(values: np.ndarray, weights: np.ndarray, n: int, *, 
                             percentiles: Sequence[float] = (50.0, 95.0)) -> list[float]:
     """Percentiles of the KS distance between a distribution (``values`` with ``weights``) and samples of ``n``
     values drawn from it (``draws`` samples, random ``seed``): how far a recording of ``n`` units would fall from
-    a model that is exactly right, by chance alone."""
+    a model that is exactly right, by chance alone.  KS distances are fractions of units (1); ``values`` in any unit."""
     v = np.asarray(values, float)
     w = np.asarray(weights, float)
     keep = np.isfinite(v) & (w > 0)

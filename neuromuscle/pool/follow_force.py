@@ -32,6 +32,7 @@ from dataclasses import dataclass, replace
 from typing import Callable, Sequence
 
 import numpy as np
+from scipy.ndimage import uniform_filter
 
 from ..analysis.metrics import nrmse_percent
 from ..errors import InputError
@@ -284,11 +285,9 @@ def _neighbourhood_mean(d: np.ndarray) -> np.ndarray:
     """The mean of the finite values of each cell's 3 x 3 block of ``d`` (inf where the cell itself is not
     finite)."""
     finite = np.isfinite(d)
-    v = np.pad(np.where(finite, d, 0.0), 1)
-    c = np.pad(finite.astype(float), 1)
-    total = sum(v[1 + a:v.shape[0] - 1 + a, 1 + b:v.shape[1] - 1 + b] for a in (-1, 0, 1) for b in (-1, 0, 1))
-    count = sum(c[1 + a:c.shape[0] - 1 + a, 1 + b:c.shape[1] - 1 + b] for a in (-1, 0, 1) for b in (-1, 0, 1))
-    return np.where(finite, total / np.maximum(count, 1.0), np.inf)
+    total = uniform_filter(np.where(finite, d, 0.0), size=3, mode="constant")   # block means with zeros outside:
+    count = uniform_filter(finite.astype(float), size=3, mode="constant")       # their ratio is the finite mean
+    return np.where(finite, total / np.maximum(count, 1e-12), np.inf)
 
 
 @dataclass(frozen=True)
