@@ -7,8 +7,9 @@ Caillet et al. 2022, 2023; read by path, never copied):
    thresholds, upper limit of recruitment 90 % MVC) runs one slow ramp of its common synaptic drive; the P0 spread
    whose thresholds come closest to the published ones and the MVC drive follow (calibration, once per muscle);
    with ``--p0-spread recording`` the spread is fitted to each file instead: the one whose units a decomposition
-   would identify (step 4) have recruitment thresholds closest to the recorded ones
-   (``follow_force.fit_p0_spread_to_recording``; depths from seeds other than those reported);
+   would identify (step 4) have recruitment thresholds closest to the recorded ones, every unit whose threshold
+   lies below the recording's largest force counted as active (``follow_force.fit_p0_spread_to_recording``;
+   depths from seeds other than those reported);
 2. the drive that makes the pool's force (% of its MVC) follow the recorded force is the ramp's force-drive
    relation inverted (rising branch, then falling branch after the plateau), corrected ``--corrections`` times by
    the remaining error, each correction from the best pass so far (``follow_force.follow``, which keeps the best
@@ -285,11 +286,12 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                   f"{sp.mvc_drive_uS:.3g} uS, thresholds {sp.rms_error_percent:.2f} % MVC rms from the published",
                   file=sys.stderr)
         cal, spread = calibrations[m]
-        fitted_to, distance = "published thresholds", float("nan")
+        fitted_to, distance, peak = "published thresholds", float("nan"), None
         if a.p0_spread == "recording":
             rec = load_caillet(path)
-            spread, distance = fit_p0_spread_to_recording(cal, HUMAN_MUSCLES[m], rec.thresholds_percent_mvc(),
-                                                          rec.level_percent_mvc, model=ident_model)
+            peak = float(np.nanmax(rec.force_percent_mvc))
+            spread, distance = fit_p0_spread_to_recording(cal, HUMAN_MUSCLES[m], rec.thresholds_percent_mvc(), peak,
+                                                          model=ident_model)
             fitted_to = "recorded thresholds"
             print(f"{path.name}: P0 range {spread.range_ratio:.3g}, exponent {spread.exponent:.3g}, MVC drive "
                   f"{spread.mvc_drive_uS:.3g} uS, identified thresholds KS {distance:.2f} from the recorded "
@@ -302,6 +304,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                "nrmse_percent_passes": run["nrmse_percent"], "summary": summary,
                "pool": {"units": n, "p0_range": spread.range_ratio, "p0_exponent": spread.exponent,
                         "p0_spread_fitted_to": fitted_to, "identified_thresholds_ks_fit": distance,
+                        "fit_active_below_percent_mvc": peak,
                         "fit_seeds": [FIT_SEEDS.start, FIT_SEEDS.stop - 1] if a.p0_spread == "recording" else None,
                         "mvc_drive_uS": spread.mvc_drive_uS, "thresholds_rms_percent": spread.rms_error_percent,
                         "neuromodulation": cal.definition.neuromodulation,

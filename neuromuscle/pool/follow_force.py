@@ -239,14 +239,16 @@ FIT_SEEDS = range(100, 110)
 
 
 def fit_p0_spread_to_recording(cal: Calibration, muscle: HumanMuscle, recorded_thresholds_percent: np.ndarray,
-                               level_percent: float, *, model: IdentificationModel | None = None,
+                               peak_percent: float, *, model: IdentificationModel | None = None,
                                seeds: Sequence[int] = FIT_SEEDS) -> tuple[P0Spread, float]:
     """The P0 spread fitted to one recording: the one whose units a decomposition would identify
     (``identification.identified_ks``: the recording's count of the active units of highest surface energy, depths
     from ``seeds``, ``model``'s parameters) have the recruitment thresholds (% MVC, on the calibration ramp)
-    closest to the recorded ones.  Active: the units recruited at or below ``level_percent`` (% MVC, the
-    recording's plateau).  Range ratios 1.5-100 (unit forces span about 100-fold in human muscles: Enoka &
-    Fuglevand 2001) and exponents 0.25-30, log-spaced.  The distance is a KS distance of a few tens of units, noisy
+    closest to the recorded ones.  Active: the units recruited at or below ``peak_percent`` (% MVC, the largest
+    force the recording reaches): a pool that follows the force recruits every unit whose threshold a fluctuation
+    of the plateau reaches, and with the PIC's hysteresis those units go on firing on the plateau.  Range ratios
+    1.5-100 (unit forces span about 100-fold in human muscles: Enoka & Fuglevand 2001) and exponents 0.25-30,
+    log-spaced.  The distance is a KS distance of a few tens of units, noisy
     from one spread to the next, so the spread chosen is the one whose distance averaged with its grid neighbours
     (one step of range and of exponent either way) is smallest: a fit that holds when the spread changes a little,
     not a lone grid point where the sampled identification happens to line up.  Returns (the spread, its own mean
@@ -255,13 +257,13 @@ def fit_p0_spread_to_recording(cal: Calibration, muscle: HumanMuscle, recorded_t
     rec = rec[np.isfinite(rec)]
     if not rec.size:
         raise InputError("fit_p0_spread_to_recording: the recording has no finite recruitment threshold")
-    finite_number("level_percent", level_percent)
+    finite_number("peak_percent", peak_percent)
     m = model or IdentificationModel()
     copies = copies_per_unit(cal.rank.size, muscle.motor_units)
 
     def distance(spread: P0Spread) -> float:
         thr = spread.thresholds_percent
-        active = thr <= level_percent
+        active = thr <= peak_percent
         if copies[active].sum() < rec.size:       # too few active units for the recording's count
             return np.inf
         return identified_ks(spread.p0_N(cal.rank), active, thr, rec, motor_units=muscle.motor_units, model=m,
@@ -274,7 +276,7 @@ def fit_p0_spread_to_recording(cal: Calibration, muscle: HumanMuscle, recorded_t
     d = np.array([[np.inf if sp is None else distance(sp) for sp in row] for row in grid])
     if not np.isfinite(d).any():
         raise InputError(f"pool {cal.definition.name!r}: no P0 spread recruits enough units below "
-                         f"{level_percent:g} % MVC for the recording's {rec.size} units")
+                         f"{peak_percent:g} % MVC for the recording's {rec.size} units")
     i, j = np.unravel_index(np.argmin(_neighbourhood_mean(d)), d.shape)
     best = grid[i][j]
     assert best is not None

@@ -68,7 +68,7 @@ def test_a_spread_fitted_to_a_recording_comes_back_near_the_one_that_made_it():
         fit_p0_spread_to_recording(cal, TA, recorded, 0.0, model=size_only, seeds=[0])
     with pytest.raises(InputError, match="no finite recruitment threshold"):
         fit_p0_spread_to_recording(cal, TA, [np.nan], 30.0)
-    with pytest.raises(InputError, match="level_percent"):
+    with pytest.raises(InputError, match="peak_percent"):
         fit_p0_spread_to_recording(cal, TA, recorded, float("nan"))
 
 

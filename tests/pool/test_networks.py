@@ -103,5 +103,6 @@ def test_pool_vs_recorded_with_the_spread_fitted_to_the_file(tmp_path, network_s
                        "--p0-spread", "recording"])["files"][0]
     pool = row["pool"]
     assert pool["p0_spread_fitted_to"] == "recorded thresholds" and pool["fit_seeds"] == [100, 109]
+    assert 30.5 < pool["fit_active_below_percent_mvc"] < 32.0   # S1_30_36L's force peaks above its 30 % plateau
     assert 0.0 <= pool["identified_thresholds_ks_fit"] < 0.5 and 1.5 <= pool["p0_range"] <= 100.0
     assert row["units"]["p0_N"][-1] == pytest.approx(pool["p0_range"])
