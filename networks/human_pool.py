@@ -10,10 +10,11 @@ Grounding of the pool definition:
 - types: 70 % S, 20 % FR, 10 % FF (human TA is about 70-75 % type I fibres: Johnson, Polgar, Weightman &
   Appleton 1973 J Neurol Sci 18:111); twitch speed by type from neuromuscle.pool.TWITCH_SPEED; motoneuron size
   index over the whole S..FF range; axon 900 mm (human leg).
-- motoneurons: the size-scaled reduced cells at the neuromodulation of human voluntary contractions
-  (neuromuscle.pool.motoneuron.HUMAN_NEUROMODULATION), driven by a common synaptic conductance, the same total on
-  every cell (Pool.drive_synaptic): the peak (--peak-us, default 0.6 uS) recruits the whole pool and the rates
-  stay within those of human motor units (5-30 Hz).
+- motoneurons: the size-scaled reduced cells with the human profile (neuromuscle.pool.motoneuron.PROFILES: the
+  setting whose pools fire like decomposed human motor units), driven by a common synaptic conductance, the same
+  total on every cell (Pool.drive_synaptic): the peak (--peak-us, default 0.8 uS) recruits the whole pool, and
+  every unit's median rate stays within the 10-23 Hz of recorded human units (the 5th-95th percentiles of the unit
+  medians of the Caillet et al. recordings, tibialis anterior and gastrocnemius medialis at 30-50 % MVC).
 
 Experiments: (1) synaptic drive 0 -> peak (half the run), held, then down to 0, isometric at -8 mm; (2)
 force-frequency by type and for the pool (every unit at each rate); (3) the same pool held at the peak drive under
@@ -34,8 +35,9 @@ import numpy as np
 
 from neuromuscle import Simulator, load_parameters
 from neuromuscle.pool import Pool, PoolDefinition
-from neuromuscle.pool.discharge_stats import unit_rates
+from neuromuscle.pool.discharge_stats import inside_human_range, unit_rates
 from neuromuscle.pool.experiments import force_frequency, summary_figure, total_force_smallest_p0_N
+from neuromuscle.pool.motoneuron import motoneuron_profile
 from neuromuscle.protocols import random_length
 from neuromuscle.reports.outdir import prepare_out_dir
 
@@ -49,7 +51,7 @@ def definition(n_units: int) -> PoolDefinition:
     return PoolDefinition(n_units, load_parameters("CT09"),
                           smallest_p0_N=total_force_smallest_p0_N(n_units, TOTAL_P0_N, P0_RANGE),
                           p0_range=P0_RANGE, type_fractions=(0.7, 0.2, 0.1), max_size=1.0, axon_length_mm=900.0,
-                          name="human")
+                          name="human", **motoneuron_profile("human").pool_options())
 
 
 def main(argv: list[str] | None = None) -> dict:
@@ -57,7 +59,7 @@ def main(argv: list[str] | None = None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", required=True, help="output folder")
     ap.add_argument("--full", action="store_true", help="800 units, 5 s runs (default 20 units, 1.5 s)")
-    ap.add_argument("--peak-us", type=float, default=0.6, help="peak of the synaptic drive (uS a cell)")
+    ap.add_argument("--peak-us", type=float, default=0.8, help="peak of the synaptic drive (uS a cell)")
     ap.add_argument("--seed", type=int, default=1, help="seed of the random length")
     ap.add_argument("--overwrite", action="store_true")
     a = ap.parse_args(argv)
@@ -87,6 +89,9 @@ def main(argv: list[str] | None = None) -> dict:
                "peak_pool_force_N": float(ramp.pool_force_N.max()),
                "unit_peak_rate_max_hz": round(float(np.nanmax(rates.peak_hz)), 1),
                "unit_median_rate_median_hz": round(float(np.nanmedian(rates.median_hz)), 1),
+               "unit_median_rates_min_max_hz": [round(float(np.nanmin(rates.median_hz)), 1),
+                                                round(float(np.nanmax(rates.median_hz)), 1)],
+               "medians_inside_human_range": round(inside_human_range(rates), 3),
                "ramp_wall_s": round(ramp.wall_s, 1),
                "length_wall_s": round(moving.wall_s, 1), "total_wall_s": round(time.time() - t0, 1)}
     print(summary)

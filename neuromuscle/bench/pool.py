@@ -32,7 +32,7 @@ from ..errors import InputError, NeuromuscleError
 from ..pool.mpi import mpi_available, mpiexec_command
 from .machine_limit import PROBE, probe_ns
 from ..pool.definition import FUSED_MUSCLE_MODELS, MUSCLE_MODELS
-from ..pool.motoneuron import CHANNELS, FUSED_CHANNELS
+from ..pool.motoneuron import CHANNELS, FUSED_CHANNELS, PROFILES
 from ..sim.simulator import ENGINES
 
 #: Default run (about two minutes on two cores) and --full (N = 100 to 800).
@@ -42,9 +42,11 @@ FULL_UNITS = (100, 200, 400, 800)
 FULL_DURATION_MS = 5000.0
 RANKS = (1, 2)
 
-#: Drives (``bench_pool``) and the synaptic drive's peak (uS, each cell's total conductance).
+#: Drives (``bench_pool``) and the synaptic drive's peak (uS, each cell's total conductance) for each motoneuron
+#: profile (``pool.motoneuron.PROFILES``): the drive that recruits every unit of a 50-unit pool in 1 s with every
+#: unit's median rate within the range of recorded human units (``discharge_stats.HUMAN_MEDIAN_RATES_HZ``).
 DRIVES = ("synaptic", "ramp", "poisson")
-SYNAPTIC_PEAK_US = 0.6
+SYNAPTIC_PEAK_US = {"default": 0.6, "human": 1.0}
 
 #: The fused muscle's step (ms) when ``substeps`` is not given: every round(MUSCLE_STEP_MS / dt) membrane steps;
 #: the fused channels' PIC gate likewise.
@@ -117,12 +119,14 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
                duration_ms: float = DEFAULT_DURATION_MS, dt_ms: float = DEFAULT_DT_MS, drive: str = "synaptic",
                full: bool = False, progress: bool = False, muscle: str = "fused_fixed", substeps: int | None = None,
                nthread: int = 1, channels: str = "fused_fixed", engines: Sequence[str] = ("neuron",),
-               cell_permute: int = 1, secondorder: int = 2, pic_substeps: int | None = None) -> dict[str, Any]:
+               cell_permute: int = 1, secondorder: int = 2, pic_substeps: int | None = None,
+               motoneurons: str = "human") -> dict[str, Any]:
     """Run every (N, ranks) pair and return {"runs": [report, ...], "skipped": [...], settings}; a rank count
     that cannot run here (no MPI) is listed under "skipped" with the reason.  The drive is a common synaptic
-    conductance rising to SYNAPTIC_PEAK_US over the run ("synaptic", the default: every unit recruited, about
-    15 Hz on average and 20-35 Hz at the end, as in human motor units; ``mean_rate_hz`` and ``max_rate_hz`` in
-    each report), a common current ramp 0 -> 20 nA ("ramp": the same recruitment by a current, about 150 Hz) or
+    conductance rising to the profile's SYNAPTIC_PEAK_US over the run ("synaptic", the default: every unit
+    recruited, each unit's median rate within the range of recorded human units; ``median_rates_p5_p50_p95_hz``,
+    ``medians_inside_human_range``, ``mean_rate_hz`` and ``max_rate_hz`` in each report), a common current ramp
+    0 -> 20 nA ("ramp": the same recruitment by a current, about 150 Hz) or
     independent Poisson input ("poisson").  ``muscle``: "modules" (KimCa, KimAct, KimForce), "fused"
     (KimUnit) or "fused_fixed" (KimUnitFixed, the default); ``substeps`` k: the fused muscle advances every k
     membrane steps (None: every MUSCLE_STEP_MS, k = round(0.2 ms / dt)); ``pic_substeps``: the fused channels'
@@ -133,7 +137,8 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
     docs/validation/speed.md.  ``engines``: "neuron", "coreneuron" or
     both; with both, "agreement" compares their results of each (N, ranks); ``cell_permute``: CoreNEURON's
     layout (1: compartments interleaved, bit-identical to 0 and faster); ``secondorder``: NEURON's fixed-step
-    scheme for the membrane (0 backward Euler, 2 Crank-Nicolson)."""
+    scheme for the membrane (0 backward Euler, 2 Crank-Nicolson); ``motoneurons``: the cells' profile
+    (``pool.motoneuron.PROFILES``: "human", the default, or "default")."""
     if not units or any(isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in units):
         raise InputError(f"pool sizes must be integers >= 1, got {list(units)}")
     if not ranks or any(isinstance(r, bool) or not isinstance(r, int) or r < 1 for r in ranks):
@@ -162,16 +167,19 @@ def bench_pool(units: Sequence[int] = DEFAULT_UNITS, ranks: Sequence[int] = RANK
         raise InputError(f"channels must be one of {', '.join(CHANNELS)}, got {channels!r}")
     if pic_substeps > 1 and channels not in FUSED_CHANNELS:
         raise InputError(f"pic_substeps = {pic_substeps} needs channels='fused' or 'fused_fixed'")
+    if motoneurons not in PROFILES:
+        raise InputError(f"motoneurons must be one of {', '.join(PROFILES)}, got {motoneurons!r}")
     if not engines or any(e not in ENGINES for e in engines) or len(set(engines)) != len(engines):
         raise InputError(f"engines must be one or more of {', '.join(ENGINES)}, each once, got {list(engines)}")
-    extra = {"ramp": ["--ramp-peak-na", "20"], "synaptic": ["--synaptic-peak-us", str(SYNAPTIC_PEAK_US)]}.get(drive, [])
-    extra += ["--muscle", muscle, "--substeps", str(substeps), "--nthread", str(nthread), "--channels", channels,
-              "--cell-permute", str(cell_permute), "--secondorder", str(secondorder), "--pic-substeps",
-              str(pic_substeps)]
+    extra = {"ramp": ["--ramp-peak-na", "20"],
+             "synaptic": ["--synaptic-peak-us", str(SYNAPTIC_PEAK_US[motoneurons])]}.get(drive, [])
+    extra += ["--motoneurons", motoneurons, "--muscle", muscle, "--substeps", str(substeps), "--nthread",
+              str(nthread), "--channels", channels, "--cell-permute", str(cell_permute), "--secondorder",
+              str(secondorder), "--pic-substeps", str(pic_substeps)]
     out: dict[str, Any] = {"duration_ms": duration_ms, "dt_ms": dt_ms, "drive": drive, "full": full,
                            "muscle": muscle, "substeps": substeps, "nthread": nthread, "channels": channels,
                            "cpu_count": os.cpu_count(), "engines": list(engines), "cell_permute": cell_permute,
-                           "secondorder": secondorder, "pic_substeps": pic_substeps,
+                           "secondorder": secondorder, "pic_substeps": pic_substeps, "motoneurons": motoneurons,
                            "runs": [], "skipped": []}
     if len(engines) > 1:
         out["agreement"] = []
@@ -210,14 +218,19 @@ def _times(x: float | None) -> str:
     return "n/a" if x is None else f"{x:.1f}"
 
 
+def _medians(run: dict[str, Any]) -> str:
+    p, share = run.get("median_rates_p5_p50_p95_hz"), run.get("medians_inside_human_range")
+    return "n/a" if p is None or share is None else f"{p[0]:.1f}-{p[2]:.1f}, {share:.0%}"
+
+
 def table_lines(res: dict[str, Any]) -> list[str]:
-    """The result as a Markdown table (N x ranks: wall, sim, build, memory, spikes, mean and largest rate,
-    load)."""
+    """The result as a Markdown table (N x ranks: wall, sim, build, memory, spikes, mean and largest rate, the
+    units' median rates, load)."""
     scheme = {0: "backward Euler", 1: "Crank-Nicolson (secondorder 1)", 2: "Crank-Nicolson"}[res.get("secondorder", 0)]
     lines = [f"pools, {res['duration_ms'] / 1000:g} s simulated at dt {res['dt_ms']} ms ({scheme}), {res['drive']} "
              f"drive, muscle {res.get('muscle', 'modules')} (substeps {res.get('substeps', 1)}), motoneuron channels "
              f"{res.get('channels', 'separate')} (PIC gate substeps {res.get('pic_substeps', 1)}), "
-             f"{res.get('nthread', 1)} thread(s)"]
+             f"{res.get('nthread', 1)} thread(s), {res.get('motoneurons', 'default')} motoneurons"]
     limits = res.get("machine_limit_ns") or []
     if any(x is not None for x in limits):
         lines.append(f"the machine's limit for the motoneuron's arithmetic (its fixed-step update as one scalar C "
@@ -225,17 +238,18 @@ def table_lines(res: dict[str, Any]) -> list[str]:
                      + " before, ".join("n/a" if x is None else f"{x:.0f} ns per cell-step" for x in limits)
                      + " after the runs")
     lines += ["", "| N | ranks | engine | wall s | sim s | build s | s per unit-s | ns per cell-step per core | "
-              "x the limit | peak MiB (largest rank) | spikes | mean / largest rate Hz | load |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+              "x the limit | peak MiB (largest rank) | spikes | mean / largest rate Hz | unit medians Hz (5-95 %), "
+              "share in the human range | load |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in res["runs"]:
         lines.append(f"| {r['n_units']} | {r['ranks']} | {r.get('engine', 'neuron')} | {r['wall_s']:.2f} | "
                      f"{r['sim_s']:.2f} | {r['build_s']:.2f} | {r['s_per_unit_s']:.4f} | "
                      f"{r['ns_per_cell_step_per_core']:.0f} | {_times(r.get('times_machine_limit'))} | "
                      f"{r['peak_rss_mib']:.0f} | {r['spikes']} | "
                      f"{r.get('mean_rate_hz', float('nan')):.1f} / {r.get('max_rate_hz', float('nan')):.1f} | "
-                     f"{r['load_1min_before']:.1f}-{r['load_1min_after']:.1f} |")
+                     f"{_medians(r)} | {r['load_1min_before']:.1f}-{r['load_1min_after']:.1f} |")
     for s in res["skipped"]:
-        lines.append(f"| {s['n_units']} | {s['ranks']} | skipped: {s['reason']} | | | | | | | | | | |")
+        lines.append(f"| {s['n_units']} | {s['ranks']} | skipped: {s['reason']} | | | | | | | | | | | |")
     if res.get("agreement"):
         lines += ["", "| N | ranks | engines | spikes | identical spikes | units with another count | largest spike "
                       "shift ms | identical forces | pool force diff / peak |", "|---|---|---|---|---|---|---|---|---|"]

@@ -117,9 +117,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                          "(default: as the muscle, every 0.2 ms)")
     bp.add_argument("--nthread", type=int, default=1, help="NEURON threads per rank")
     bp.add_argument("--drive", choices=("synaptic", "ramp", "poisson"), default="synaptic",
-                    help="synaptic: common synaptic conductance to 0.6 uS (human rates: about 15 Hz mean, 20-35 Hz "
-                         "at the end); ramp: common current to 20 nA (about 150 Hz); poisson: independent Poisson "
-                         "input")
+                    help="synaptic: common synaptic conductance rising over the run (to 1.0 uS with the human "
+                         "motoneurons, 0.6 with the default ones: every unit's median rate within the recorded human "
+                         "range); ramp: common current to 20 nA (about 150 Hz); poisson: independent Poisson input")
+    bp.add_argument("--motoneurons", choices=("human", "default"), default="human",
+                    help="the reduced cells' profile: human (minimum rate, late adaptation and AHPs of human motor "
+                         "units) or default (cells scaled to cat data)")
     bp.add_argument("--engines", default="neuron",
                     help="engines, comma separated: neuron, coreneuron (both: their results compared)")
     bp.add_argument("--cell-permute", type=int, choices=(0, 1), default=1,
@@ -152,7 +155,8 @@ def run_pool(args: argparse.Namespace) -> int:
     res = bench_pool(units, _int_list("--ranks", args.ranks), duration, args.dt_ms, args.drive, args.full,
                      progress=True, muscle=args.muscle, substeps=args.substeps, nthread=args.nthread,
                      channels=args.channels, engines=[e.strip() for e in args.engines.split(",") if e.strip()],
-                     cell_permute=args.cell_permute, secondorder=args.secondorder, pic_substeps=args.pic_substeps)
+                     cell_permute=args.cell_permute, secondorder=args.secondorder, pic_substeps=args.pic_substeps,
+                     motoneurons=args.motoneurons)
     print(json.dumps(res, indent=1) if args.json else "\n".join(table_lines(res)))
     return 0
 

@@ -31,13 +31,14 @@ def _numbers(kind: type) -> Any:
 def flag_table() -> list[tuple[str, list[tuple[str, str, dict[str, Any]]]]]:
     """The flags by group: (group title, [(flag, the definition file's field it sets, argparse options)])."""
     from ..pool.definition import MUSCLE_MODELS
-    from ..pool.motoneuron import CHANNELS
+    from ..pool.motoneuron import CHANNELS, PROFILES
     from ..pool.pool_file import DRIVES
     from ..sim.simulator import ENGINES
 
     number = {"type": float}
     return [
-        ("units (default: 20 units, 70/20/10 %% S/FR/FF, P0s summing to 600 N over a 100-fold range, 900 mm axons)", [
+        ("units (default: 20 units, 70/20/10 %% S/FR/FF, P0s summing to 600 N over a 100-fold range, 900 mm axons, "
+         "human motoneurons)", [
             ("--name", "name", {"help": "the pool's name"}),
             ("--units", "units.count", {"type": int, "help": "number of motor units"}),
             ("--params", "units.params", {"help": "base muscle parameter set (CT09, CT95 or a parameter file)"}),
@@ -53,12 +54,16 @@ def flag_table() -> list[tuple[str, list[tuple[str, str, dict[str, Any]]]]]:
              {**number, "help": "how sizes spread over the ranks (1: uniform; K > 1: a K-fold property grows "
                                 "linearly with rank)"}),
             ("--axon-length-mm", "units.axon_length_mm", {**number, "help": "axon length (mm)"}),
+            ("--motoneurons", "units.motoneurons",
+             {"choices": tuple(PROFILES), "help": "the reduced cells' profile: human (minimum rate, late adaptation "
+                                                 "and AHPs of human motor units) or default (cells scaled to cat "
+                                                 "data)"}),
             ("--neuromodulation", "units.neuromodulation",
-             {**number, "help": "PIC strength (0: none; 1: the decerebrate cat's)"}),
+             {**number, "help": "PIC strength (0: none; 1: the decerebrate cat's; default: the profile's)"}),
             ("--muscle", "units.muscle", {"choices": MUSCLE_MODELS, "help": "three Kim mechanisms, fused "
                                           "(KimUnit) or fused_fixed (KimUnitFixed: the fixed step only)"}),
             ("--channels", "units.channels", {"choices": CHANNELS, "help": "motoneuron channel mechanisms"})]),
-        ("drive (default: ramp to 0.6 uS)", [
+        ("drive (default: ramp to 0.7 uS)", [
             ("--drive", "drive.kind", {"choices": DRIVES, "help": (
                 "ramp: common synaptic conductance 0 -> --peak-us over the first half, held, back to 0; rise: 0 -> "
                 "--peak-us over the run; current: common current 0 -> --peak-na over the run; poisson: independent "
@@ -133,7 +138,8 @@ def _provenance(setup: Any, args: argparse.Namespace) -> dict[str, Any]:
     d = setup.definition
     return {"definition": setup.document, "definition_file": args.definition, "command": " ".join(sys.argv),
             "drive_detail": setup.drive.to_dict(), "muscle_parameters": d.muscle.to_json(),
-            "axon_length_mm": d.axon_length_mm, "neuromodulation": d.neuromodulation}
+            "axon_length_mm": d.axon_length_mm, "neuromodulation": d.neuromodulation,
+            "motoneuron_overrides": dict(d.motoneuron_overrides), "motoneuron_scales": dict(d.motoneuron_scales)}
 
 
 def _run(args: argparse.Namespace, rank: int, nhost: int) -> int:
@@ -176,6 +182,8 @@ def _run(args: argparse.Namespace, rank: int, nhost: int) -> int:
     summary = {"units": d.n_units, "ranks": nhost, "recruited": int(sum(s.size > 0 for s in result.spikes_ms)),
                "spikes": report["spikes"], "peak_pool_force_N": round(report["pool_force_peak_N"], 4),
                "sim_s": round(report["sim_s"], 2), "recorded": sorted(result.recordings),
+               "median_rates_p5_p50_p95_hz": report["median_rates_p5_p50_p95_hz"],
+               "medians_inside_human_range": report["medians_inside_human_range"],
                "files": [str(p) for p in paths]}
     if "afferents" in report:
         summary["afferents"] = report["afferents"]

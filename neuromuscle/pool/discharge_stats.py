@@ -36,6 +36,11 @@ MIN_RECRUITMENT_LAG_MS = 1000.0
 MIN_RATE_CORRELATION = 0.7
 #: ... and the reference unit's rate changes at least this much (Hz) while the test unit fires.
 MIN_REFERENCE_MODULATION_HZ = 0.5
+#: Recorded human motor units (Hz): the 5th and 95th percentiles of the unit median rates, over the 291 units of
+#: the eight HD-EMG decompositions of Caillet et al. 2022, 2023 (tibialis anterior and gastrocnemius medialis,
+#: trapezoidal isometric contractions at 30-50 % MVC), and the largest unit peak (95th percentile) rate among them.
+HUMAN_MEDIAN_RATES_HZ = (10.1, 23.4)
+HUMAN_PEAK_RATE_HZ = 46.1
 
 
 def _trains(trains_ms: Sequence[Sequence[float]]) -> list[np.ndarray]:
@@ -78,6 +83,13 @@ def unit_rates(trains_ms: Sequence[Sequence[float]]) -> UnitRates:
         med.append(float(np.median(r)) if r.size else np.nan)
         peak.append(float(np.percentile(r, 95)) if r.size else np.nan)
     return UnitRates(np.array(med), np.array(peak))
+
+
+def inside_human_range(rates: UnitRates) -> float:
+    """The share of the units with a median rate whose median lies within ``HUMAN_MEDIAN_RATES_HZ``."""
+    m = rates.median_hz[np.isfinite(rates.median_hz)]
+    lo, hi = HUMAN_MEDIAN_RATES_HZ
+    return float(np.mean((m >= lo) & (m <= hi))) if m.size else float("nan")
 
 
 def recruitment_thresholds(trains_ms: Sequence[Sequence[float]], t_ms: np.ndarray, force: np.ndarray

@@ -10,12 +10,13 @@
     max_size = 1.0                     # the largest cell's size index (0..1; the smallest cell's is 0)
     size_spacing = 1.0                 # how sizes spread over the ranks (>= 1; PoolDefinition.size_spacing)
     axon_length_mm = 900.0
-    neuromodulation = 0.6              # PIC strength (0: none; 1: the decerebrate cat's)
+    motoneurons = "human"              # the cells' profile: "human" or "default" (motoneuron.PROFILES)
+    neuromodulation = 0.6              # PIC strength (0: none; 1: the decerebrate cat's); default: the profile's
     muscle = "modules"                 # or "fused", "fused_fixed"
     channels = "fused"                 # or "fused_fixed", "separate"
     [drive]
     kind = "ramp"                      # ramp | rise | synaptic | current | poisson
-    peak_uS = 0.6                      # ramp, rise: the synaptic conductance's peak (uS a cell)
+    peak_uS = 0.7                      # ramp, rise: the synaptic conductance's peak (uS a cell)
     [length]
     mm = -8.0                          # isometric; or kind = "random" with seed (and centre_mm, low_mm, high_mm,
                                        # band_hz: protocols.random_length); or kind = "ramp": a ramp-and-hold
@@ -44,10 +45,11 @@ Drives: ``ramp`` (the recruitment ramp: the common synaptic conductance 0 -> pea
 run, held to three quarters, back to 0: ``Drive.recruitment_ramp``), ``rise`` (0 -> peak_uS over the run),
 ``synaptic`` (times_ms and values_uS, linear between), ``current`` (a common current: times_ms and values_nA, or
 0 -> peak_nA over the run), ``poisson`` (rate_hz, weight_uS, seed).  The defaults are the human pool of
-networks/human_pool.py: 70/20/10 % S/FR/FF, a 100-fold P0 range summing to 600 N, 900 mm axons, the
-neuromodulation of human voluntary contractions.  A missing field takes its default; an unknown one is an error.
-The [reflex] section is optional: without it no afferents are built; with it, each field missing takes the
-ReflexDefinition default, and the spindles measure stretch from the length's starting value unless xref_mm is set.
+networks/human_pool.py: 70/20/10 % S/FR/FF, a 100-fold P0 range summing to 600 N, 900 mm axons, the human
+motoneuron profile (``motoneuron.PROFILES``), a recruitment ramp to 0.7 uS.  A missing field takes its default;
+an unknown one is an error.  The [reflex] section is optional: without it no afferents are built; with it, each
+field missing takes the ReflexDefinition default, and the spindles measure stretch from the length's starting
+value unless xref_mm is set.
 Units: ms, mm, N, uS, nA, Hz.
 """
 
@@ -67,15 +69,15 @@ from .cells import CellFactory, reconstructed_cells
 from .definition import MUSCLE_MODELS, PoolDefinition
 from .drives import Drive
 from .experiments import total_force_smallest_p0_N
-from .motoneuron import CHANNELS, HUMAN_NEUROMODULATION, TYPES
+from .motoneuron import CHANNELS, PROFILES, TYPES, motoneuron_profile
 from .reflex import ReflexDefinition
 
 #: Every section of a definition file, its fields and their defaults (None: no default, optional).
 FIELDS: dict[str, dict[str, Any]] = {
     "units": {"count": 20, "params": "CT09", "types": [0.7, 0.2, 0.1], "total_p0_N": 600.0, "smallest_p0_N": None,
               "p0_range": 100.0, "max_size": 1.0, "size_spacing": 1.0, "axon_length_mm": 900.0,
-              "neuromodulation": HUMAN_NEUROMODULATION, "muscle": "modules", "channels": "fused"},
-    "drive": {"kind": "ramp", "peak_uS": 0.6, "peak_nA": 40.0, "times_ms": None, "values_uS": None,
+              "motoneurons": "human", "neuromodulation": None, "muscle": "modules", "channels": "fused"},
+    "drive": {"kind": "ramp", "peak_uS": 0.7, "peak_nA": 40.0, "times_ms": None, "values_uS": None,
               "values_nA": None, "rate_hz": 400.0, "weight_uS": 0.15, "seed": 0},
     "length": {"kind": "isometric", "mm": -8.0, "seed": 0, "centre_mm": -8.0, "low_mm": -16.0, "high_mm": 0.0,
                "band_hz": 5.0, "to_mm": -4.0, "velocity_mm_s": 30.0, "start_ms": 300.0},
@@ -252,9 +254,11 @@ def _definition(f: _Fields) -> PoolDefinition:
               "size_spacing": f.number("units.size_spacing", lambda x: x >= 1.0,
                                        ">= 1 (1: sizes uniform in rank)"),
               "axon_length_mm": f.positive("units.axon_length_mm"),
-              "neuromodulation": f.number("units.neuromodulation", lambda x: x >= 0, ">= 0"),
+              **motoneuron_profile(f.choice("units.motoneurons", tuple(PROFILES))).pool_options(),
               "muscle_model": f.choice("units.muscle", MUSCLE_MODELS),
               "motoneuron_channels": f.choice("units.channels", CHANNELS), "name": f.text("name")}
+    if f.raw("units.neuromodulation") is not None:
+        fields["neuromodulation"] = f.number("units.neuromodulation", lambda x: x >= 0, ">= 0")
     try:
         return PoolDefinition(n, muscle, smallest_p0_N=smallest, p0_range=p0_range, type_fractions=types, **fields)
     except InputError as exc:

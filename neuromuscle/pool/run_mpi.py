@@ -34,7 +34,7 @@ from typing import Any, Callable, Sequence
 
 from ..sim.simulator import ENGINES
 from .definition import MUSCLE_MODELS
-from .motoneuron import CHANNELS
+from .motoneuron import CHANNELS, PROFILES, motoneuron_profile
 from .mpi import finish_mpi
 
 _START = time.perf_counter()
@@ -69,6 +69,7 @@ class PoolRun:
     cell_permute: int = 1
     secondorder: int = 0
     pic_substeps: int = 1
+    motoneurons: str = "default"
 
 
 def parser() -> argparse.ArgumentParser:
@@ -105,6 +106,8 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--pic-substeps", type=int, default=d.pic_substeps,
                     help="with fused channels: the PIC's gate (time constant 60 ms) advances every k membrane steps")
     ap.add_argument("--nthread", type=int, default=d.nthread, help="NEURON threads per rank")
+    ap.add_argument("--motoneurons", choices=tuple(PROFILES), default=d.motoneurons,
+                    help="the reduced cells' profile (neuromuscle.pool.motoneuron.PROFILES)")
     ap.add_argument("--channels", choices=CHANNELS, default=d.channels,
                     help="motoneuron channels: fused (mn_soma + mn_pic), fused_fixed (mn_soma_fixed + mn_pic_fixed, "
                          "the fixed step only) or separate (one mechanism each)")
@@ -130,7 +133,8 @@ def _config(args: argparse.Namespace) -> PoolRun:
                    smallest_p0_N=args.smallest_p0_n, p0_range=args.p0_range, length_mm=args.length_mm,
                    record_dt_ms=args.record_dt_ms, muscle=args.muscle, substeps=args.substeps,
                    nthread=args.nthread, channels=args.channels, engine=args.engine,
-                   cell_permute=args.cell_permute, secondorder=args.secondorder, pic_substeps=args.pic_substeps)
+                   cell_permute=args.cell_permute, secondorder=args.secondorder, pic_substeps=args.pic_substeps,
+                   motoneurons=args.motoneurons)
 
 
 def peak_rss_mib() -> float:
@@ -152,7 +156,8 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
         raise InputError(f"{nhost} MPI ranks for a pool of {cfg.n_units} units: use at most one rank per unit")
     definition = PoolDefinition(cfg.n_units, load_parameters(cfg.params), smallest_p0_N=cfg.smallest_p0_N,
                                 p0_range=cfg.p0_range, muscle_model=cfg.muscle, muscle_substeps=cfg.substeps,
-                                motoneuron_channels=cfg.channels, pic_substeps=cfg.pic_substeps)
+                                motoneuron_channels=cfg.channels, pic_substeps=cfg.pic_substeps,
+                                **motoneuron_profile(cfg.motoneurons).pool_options())
     sim = Simulator(method=cfg.method, dt_ms=cfg.dt_ms, atol=cfg.atol, v_init_mV=-70.0, max_wall_s=None,
                     local_dt=cfg.local_dt, nthread=cfg.nthread, label=f"pool of {cfg.n_units} units",
                     engine=cfg.engine, cell_permute=cfg.cell_permute, secondorder=cfg.secondorder)
@@ -165,7 +170,7 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
     result, report = run_definition(definition, drive, sim, cfg.duration_ms, nhost, length=cfg.length_mm,
                                     record_dt_ms=cfg.record_dt_ms)
     report.update({"muscle": cfg.muscle, "substeps": cfg.substeps, "nthread": cfg.nthread,
-                   "channels": cfg.channels, "drive": cfg.drive})
+                   "channels": cfg.channels, "drive": cfg.drive, "motoneurons": cfg.motoneurons})
     return result, report
 
 
@@ -226,11 +231,26 @@ def run_definition(definition: Any, drive: Any, sim: Any, duration_ms: float, nh
               "s_per_unit_s": result.wall_s / unit_s, "spikes": spikes, "mean_rate_hz": spikes / unit_s,
               "max_rate_hz": float(final.max()) if final.size else 0.0,
               "min_rate_hz": float(final.min()) if final.size else 0.0, "recruited": int(final.size),
+              **median_rates(result.spikes_ms),
               "peak_rss_mib": max(rss), "peak_rss_mib_per_rank": rss,
               "pool_force_peak_N": float(result.pool_force_N.max())}
     if afferents is not None:
         report["afferents"] = afferents
     return result, report
+
+
+def median_rates(spikes_ms: Sequence[Any]) -> dict[str, Any]:
+    """The units' median instantaneous rates (Hz; ``discharge_stats.unit_rates``): their 5th, 50th and 95th
+    percentiles over the units that fired twice or more, and the share of those units whose median lies within the
+    range of recorded human units (``discharge_stats.HUMAN_MEDIAN_RATES_HZ``)."""
+    import numpy as np
+
+    from .discharge_stats import inside_human_range, unit_rates
+
+    rates = unit_rates([s for s in spikes_ms if len(s) > 1])
+    m = rates.median_hz[np.isfinite(rates.median_hz)]
+    return {"median_rates_p5_p50_p95_hz": [float(x) for x in np.percentile(m, [5, 50, 95])] if m.size else None,
+            "medians_inside_human_range": inside_human_range(rates) if m.size else None}
 
 
 def final_rates_hz(spikes_ms: Sequence[Any], intervals: int = 3) -> Any:

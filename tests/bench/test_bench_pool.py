@@ -9,6 +9,7 @@ from neuromuscle.bench.pool import RUN_KEYS, bench_pool, table_lines
 from neuromuscle.cli import main
 from neuromuscle.errors import InputError
 from neuromuscle.pool.mpi import mpi_available
+from neuromuscle.pool.discharge_stats import HUMAN_MEDIAN_RATES_HZ, HUMAN_PEAK_RATE_HZ
 
 
 def test_bench_pool_json_keys_and_consistency(capsys):
@@ -35,6 +36,19 @@ def test_bench_pool_json_keys_and_consistency(capsys):
         assert r["times_machine_limit"] == pytest.approx(r["ns_per_cell_step_per_core"] / limit)
     lines = table_lines(res)
     assert len(lines) == 5 + len(res["runs"]) and "the machine's limit" in lines[1] and "x the limit" in lines[3]
+
+
+@pytest.mark.parametrize("profile", ["human", "default"])
+def test_bench_pool_fires_in_the_range_of_human_units(profile, capsys):
+    """The benchmark's default drive recruits every unit of its 50-unit pool, each at a median rate within the
+    recorded human range, with either motoneuron profile (its drive peak is the profile's)."""
+    assert main(["bench", "pool", "--json", "--units", "50", "--ranks", "1", "--motoneurons", profile]) == 0
+    res = json.loads(capsys.readouterr().out)
+    (r,) = res["runs"]
+    assert res["motoneurons"] == r["motoneurons"] == profile and r["recruited"] == 50
+    assert r["medians_inside_human_range"] == 1.0 and r["max_rate_hz"] <= 1.5 * HUMAN_PEAK_RATE_HZ
+    assert HUMAN_MEDIAN_RATES_HZ[0] <= r["median_rates_p5_p50_p95_hz"][0] < r["median_rates_p5_p50_p95_hz"][2]
+    assert f"{profile} motoneurons" in table_lines(res)[0]
 
 
 def test_bench_pool_fused_substeps_reach_the_pool(capsys):
@@ -76,7 +90,7 @@ def test_bench_pool_defaults_are_the_fast_path_and_the_reference_is_a_flag(capsy
                                 dict(units=[2], muscle="modules", substeps=2),
                                 dict(units=[2], muscle="fused", substeps=0), dict(units=[2], nthread=0),
                                 dict(units=[2], channels="hh"), dict(units=[2], cell_permute=2),
-                                dict(units=[2], pic_substeps=0)])
+                                dict(units=[2], pic_substeps=0), dict(units=[2], motoneurons="cat")])
 def test_bench_pool_refuses_bad_configurations(kw):
     with pytest.raises(InputError):
         bench_pool(**kw)

@@ -36,10 +36,13 @@ def test_the_plain_form_writes_hdf5_nwb_and_png(tmp_path, capsys):
     assert len(first) >= 15 and first == sorted(first)
     rates = 1000.0 / np.concatenate([np.diff(s) for s in r.spikes_ms if s.size > 1])
     assert 5.0 < np.median(rates) < 35.0
+    assert summary["medians_inside_human_range"] == 1.0 and len(summary["median_rates_p5_p50_p95_hz"]) == 3
     assert r.pool_force_N.argmax() < 0.85 * r.t_ms.size and r.pool_force_N[-1] < 0.5 * r.pool_force_N.max()
     prov = r.provenance
     assert prov["definition"]["drive"]["kind"] == "ramp" and prov["definition"]["units"]["count"] == 20
-    assert prov["drive_detail"]["values_uS"] == [0.0, 0.6, 0.6, 0.0] and prov["mechanism_sha256"]
+    assert prov["drive_detail"]["values_uS"] == [0.0, 0.7, 0.7, 0.0] and prov["mechanism_sha256"]
+    assert prov["definition"]["units"]["motoneurons"] == "human" and prov["neuromodulation"] == 0.7
+    assert prov["motoneuron_overrides"] == {"g_km_S_per_cm2": 0.002, "g_ks_S_per_cm2": 0.03}
     assert prov["versions"]["neuron"] and prov["muscle_parameters"]["name"] == "CT09"
     assert sum(u["P0_N"] for u in r.units) == pytest.approx(600.0)
     assert np.array_equal(read_pool_nwb(out / "pool.nwb").unit_force_N, r.unit_force_N)

@@ -101,3 +101,16 @@ def test_smoothed_rate_of_a_firing_shorter_than_the_smoothing_window():
     assert rate.shape == grid.shape
     assert np.nanmax(np.abs(rate - 10.0)) < 1e-9
     assert ds.delta_f([_train(10.0, 0.0, 900.0), _train(12.0, 0.0, 800.0)]).pairs == 0
+
+
+def test_the_human_range_is_that_of_the_recorded_units(real_data):
+    from neuromuscle.pool.discharges import load_caillet
+
+    files = sorted((real_data / "human_mu_spike_trains_caillet").glob("*.mat"))
+    rates = [ds.unit_rates(load_caillet(f).discharges_ms) for f in files]
+    medians = np.concatenate([r.median_hz for r in rates])
+    medians = medians[np.isfinite(medians)]
+    assert len(files) == 8 and medians.size == 291
+    assert np.percentile(medians, [5, 95]) == pytest.approx(ds.HUMAN_MEDIAN_RATES_HZ, abs=0.05)
+    assert max(np.nanmax(r.peak_hz) for r in rates) == pytest.approx(ds.HUMAN_PEAK_RATE_HZ, abs=0.05)
+    assert ds.inside_human_range(ds.UnitRates(np.array([9.0, 12.0, 20.0, np.nan]), np.zeros(4))) == pytest.approx(2 / 3)

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from neuromuscle.pool import load_pool_result
+from neuromuscle.pool.discharge_stats import HUMAN_PEAK_RATE_HZ
 
 NETWORKS = Path(__file__).resolve().parents[2] / "networks"
 CAILLET = NETWORKS.parent.parent / "shared" / "real_data" / "human_mu_spike_trains_caillet"
@@ -29,7 +30,9 @@ def test_cat_soleus_pool_default(tmp_path, monkeypatch, network_script):
 
 def test_human_pool_default(tmp_path, network_script):
     s = network_script("human_pool").main(["--out", str(tmp_path / "out")])
-    assert s["units"] == 20 and s["recruited"] >= 10
+    assert s["units"] == 20 and s["recruited"] == 20
+    # human motoneurons at the example's drive: every unit's median rate within the recorded human range
+    assert s["medians_inside_human_range"] == 1.0 and s["unit_peak_rate_max_hz"] <= 1.5 * HUMAN_PEAK_RATE_HZ
     moving = load_pool_result(tmp_path / "out" / "human_length.h5")
     ramp = load_pool_result(tmp_path / "out" / "human_ramp.h5")
     assert {u["type"] for u in ramp.units} == {"S", "FR", "FF"}

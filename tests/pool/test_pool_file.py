@@ -17,11 +17,24 @@ def test_defaults_are_the_human_pool():
     assert d.n_units == 20 and d.type_fractions == (0.7, 0.2, 0.1) and d.axon_length_mm == 900.0
     assert sum(u.muscle["P0"] for u in d.units()) == pytest.approx(600.0)
     assert d.units()[-1].muscle["P0"] / d.units()[0].muscle["P0"] == pytest.approx(100.0)
-    assert s.drive.values == (0.0, 0.6, 0.6, 0.0) and s.drive.times_ms == (0.0, 250.0, 375.0, 500.0)
+    assert s.drive.values == (0.0, 0.7, 0.7, 0.0) and s.drive.times_ms == (0.0, 250.0, 375.0, 500.0)
+    human = d.units()[0].motoneuron
+    assert d.neuromodulation == 0.7 and human.g_km_S_per_cm2 == 0.002 and human.g_ks_S_per_cm2 == 0.03
+    assert human.ca_decay_ms == pytest.approx(1.3 * 45.0)
     assert s.length == -8.0 and s.duration_ms == 500.0 and s.record_dt_ms == 1.0 and s.recordings is None
     assert (s.simulator.method, s.simulator.dt_ms, s.simulator.engine) == ("fixed", 0.025, "neuron")
     assert s.simulator.secondorder == 0
     assert pool_setup({"run": {"secondorder": 2}}, "test").simulator.secondorder == 2
+
+
+def test_the_motoneuron_profile_and_an_explicit_neuromodulation():
+    plain = pool_setup({"units": {"motoneurons": "default"}}, "test").definition
+    assert plain.neuromodulation == 0.6 and not plain.motoneuron_overrides and not plain.motoneuron_scales
+    assert plain.units()[0].motoneuron.g_km_S_per_cm2 == 0.0
+    mine = pool_setup({"units": {"neuromodulation": 0.3}}, "test").definition
+    assert mine.neuromodulation == 0.3 and mine.motoneuron_overrides["g_km_S_per_cm2"] == 0.002
+    with pytest.raises(InputError, match=r"units\.motoneurons.*default, human"):
+        pool_setup({"units": {"motoneurons": "cat"}}, "test")
 
 
 def test_fields_reach_the_pieces():
