@@ -23,7 +23,8 @@ Caillet et al. 2022, 2023; read by path, never copied):
 The units are not matched one to one.
 
 Run: python networks/pool_vs_recorded.py --out DIR [--file F.mat ...] [--units N] [--corrections K] [--full]
-                                          [--seed S] [--depth-attenuation A] [--neuromodulation NM]
+                                          [--seed S] [--depth-attenuation A] [--motoneurons default|human]
+                                          [--neuromodulation NM]
                                           [--set NAME=VALUE ...] [--scale NAME=FACTOR ...]
                                           [--p0-spread published|recording]
 Default: S1_30_36L.mat, 40 units, one correction, seed 0, the module's depth attenuation.  --full: every file, 80
@@ -51,7 +52,7 @@ from neuromuscle.pool.follow_force import (FIT_SEEDS, HUMAN_MUSCLES, Calibration
                                           fit_p0_spread_to_recording, run_drive)
 from neuromuscle.pool.follow_force import follow as follow_force
 from neuromuscle.pool.identification import DEFAULT_SEED, DEPTH_ATTENUATION, IdentificationModel
-from neuromuscle.pool.motoneuron import motoneuron_parameters, parse_settings
+from neuromuscle.pool.motoneuron import PROFILES, motoneuron_parameters, motoneuron_profile, parse_settings
 from neuromuscle.pool.recorded_comparison import Comparison, compare_discharges
 from neuromuscle.reports.figures import label_axes, legend, new_figure, save_figure, set_title
 from neuromuscle.reports.outdir import prepare_out_dir
@@ -227,13 +228,16 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--seed", type=int, default=DEFAULT_SEED, help="seed of the identification's unit depths")
     ap.add_argument("--depth-attenuation", type=float, default=DEPTH_ATTENUATION,
                     help="ln of a unit's surface-energy ratio, muscle surface / deep face (identification)")
+    ap.add_argument("--motoneurons", choices=tuple(PROFILES), default="default",
+                    help="the reduced cells' profile (neuromuscle.pool.motoneuron.PROFILES); --neuromodulation, --set "
+                         "and --scale act on top of it")
     ap.add_argument("--neuromodulation", type=float, default=None,
-                    help="the motoneurons' PIC strength (default neuromuscle.pool.motoneuron.HUMAN_NEUROMODULATION)")
+                    help="the motoneurons' PIC strength (default: the profile's)")
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="a motoneuron parameter replaced in every cell, e.g. g_ks_S_per_cm2=0.03 (repeatable)")
     ap.add_argument("--scale", action="append", default=[], metavar="NAME=FACTOR",
                     help="a size-dependent motoneuron parameter multiplied in every cell, on top of the muscle's own "
-                         "scales, e.g. ca_decay_ms=1.5 (AHPs half as long again; repeatable)")
+                         "and the profile's scales, e.g. ca_decay_ms=1.5 (AHPs half as long again; repeatable)")
     ap.add_argument("--calibration-top-uS", type=float, default=1.2,
                     help="the calibration triangle's peak drive (uS): raise it for motoneurons that need more drive "
                          "to recruit the whole pool")
@@ -245,12 +249,15 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                          "to each recording's thresholds as a decomposition would sample them")
     ap.add_argument("--overwrite", action="store_true")
     a = ap.parse_args(argv)
+    profile = motoneuron_profile(a.motoneurons)
     try:
-        overrides = parse_settings(a.set)
+        overrides = {**dict(profile.overrides), **parse_settings(a.set)}
     except InputError as e:
         ap.error(f"--set: {e}")
     try:
-        scales = parse_settings(a.scale)
+        scales = dict(profile.scales)
+        for k, f in parse_settings(a.scale).items():
+            scales[k] = scales.get(k, 1.0) * f
         motoneuron_parameters(0.0, scales=scales)
     except InputError as e:
         ap.error(f"--scale: {e}")
@@ -258,9 +265,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                         ("--calibration-ramp-ms", a.calibration_ramp_ms)):
         if not np.isfinite(value) or value <= 0.0:
             ap.error(f"{flag} must be a number > 0, got {value}")
-    options: dict[str, Any] = {"motoneuron_overrides": overrides}
-    if a.neuromodulation is not None:
-        options["neuromodulation"] = a.neuromodulation
+    options: dict[str, Any] = {"motoneuron_overrides": overrides,
+                               "neuromodulation": profile.neuromodulation if a.neuromodulation is None
+                               else a.neuromodulation}
     names = list(ALL_FILES) if a.full and not a.file else (a.file or ["S1_30_36L.mat"])
     paths = [Path(f) if Path(f).is_file() else Path(a.data_dir) / f for f in names]
     stems = [p.stem for p in paths]
@@ -309,7 +316,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                         "mvc_drive_uS": spread.mvc_drive_uS, "thresholds_rms_percent": spread.rms_error_percent,
                         "neuromodulation": cal.definition.neuromodulation,
                         "motoneuron_overrides": dict(cal.definition.motoneuron_overrides),
-                        "motoneuron_scales": dict(cal.definition.motoneuron_scales),
+                        "motoneurons": a.motoneurons, "motoneuron_scales": dict(cal.definition.motoneuron_scales),
                         "calibration_top_uS": a.calibration_top_uS,
                         "calibration_ramp_ms": a.calibration_ramp_ms},
                "identification": {**ident_model.provenance(), "motor_units": HUMAN_MUSCLES[m].motor_units},

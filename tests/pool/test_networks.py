@@ -103,8 +103,13 @@ def test_pool_vs_recorded_briefly(tmp_path, network_script):
 def test_pool_vs_recorded_with_the_spread_fitted_to_the_file(tmp_path, network_script):
     script = network_script("pool_vs_recorded")
     row = script.main(["--out", str(tmp_path / "out"), "--units", "12", "--corrections", "0", "--dt-ms", "0.05",
-                       "--p0-spread", "recording"])["files"][0]
+                       "--p0-spread", "recording", "--motoneurons", "human", "--set", "g_ks_S_per_cm2=0.01",
+                       "--scale", "ca_decay_ms=2", "--calibration-top-uS", "1.6"])["files"][0]
     pool = row["pool"]
+    # the human profile, with --set replacing one of its values and --scale multiplying its AHP factor
+    assert pool["motoneurons"] == "human" and pool["neuromodulation"] == 0.7
+    assert pool["motoneuron_overrides"] == {"g_km_S_per_cm2": 0.002, "g_ks_S_per_cm2": 0.01}
+    assert pool["motoneuron_scales"] == {"ca_decay_ms": pytest.approx(2.6)}
     assert pool["p0_spread_fitted_to"] == "recorded thresholds" and pool["fit_seeds"] == [100, 109]
     assert 30.5 < pool["fit_active_below_percent_mvc"] < 32.0   # S1_30_36L's force peaks above its 30 % plateau
     assert 0.0 <= pool["identified_thresholds_ks_fit"] < 0.5 and 1.5 <= pool["p0_range"] <= 100.0
