@@ -10,7 +10,7 @@ import json
 from ..errors import InputError
 from ..bench.pool import DEFAULT_DT_MS
 from ..pool.definition import MUSCLE_MODELS
-from ..pool.motoneuron import CHANNELS
+from ..pool.motoneuron import CHANNELS, PROFILES
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -120,7 +120,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     help="synaptic: common synaptic conductance rising over the run (to 1.0 uS with the human "
                          "motoneurons, 0.6 with the default ones: every unit's median rate within the recorded human "
                          "range); ramp: common current to 20 nA (about 150 Hz); poisson: independent Poisson input")
-    bp.add_argument("--motoneurons", choices=("human", "default"), default="human",
+    bp.add_argument("--motoneurons", choices=tuple(PROFILES), default="human",
                     help="the reduced cells' profile: human (minimum rate, late adaptation and AHPs of human motor "
                          "units) or default (cells scaled to cat data)")
     bp.add_argument("--engines", default="neuron",
