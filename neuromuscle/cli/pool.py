@@ -37,7 +37,7 @@ def flag_table() -> list[tuple[str, list[tuple[str, str, dict[str, Any]]]]]:
 
     number = {"type": float}
     return [
-        ("units (default: 20 units, 70/20/10 %% S/FR/FF, P0s summing to 600 N over a 100-fold range, 900 mm axons, "
+        ("units (default: 20 units, 70/20/10 % S/FR/FF, P0s summing to 600 N over a 100-fold range, 900 mm axons, "
          "human motoneurons)", [
             ("--name", "name", {"help": "the pool's name"}),
             ("--units", "units.count", {"type": int, "help": "number of motor units"}),
