@@ -10,7 +10,7 @@ import json
 from ..errors import InputError
 from ..bench.pool import DEFAULT_DT_MS
 from ..pool.definition import MUSCLE_MODELS
-from ..pool.motoneuron import CHANNELS, PROFILES
+from ..pool.motoneuron import CHANNELS, PROFILES, describe_profiles
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -121,8 +121,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                          "motoneurons, 0.6 with the default ones: every unit's median rate within the recorded human "
                          "range); ramp: common current to 20 nA (about 150 Hz); poisson: independent Poisson input")
     bp.add_argument("--motoneurons", choices=tuple(PROFILES), default="human",
-                    help="the reduced cells' profile: human (minimum rate, late adaptation and AHPs of human motor "
-                         "units) or default (cells scaled to cat data)")
+                    help=f"the reduced cells' profile ({describe_profiles()})")
     bp.add_argument("--engines", default="neuron",
                     help="engines, comma separated: neuron, coreneuron (both: their results compared)")
     bp.add_argument("--cell-permute", type=int, choices=(0, 1), default=1,

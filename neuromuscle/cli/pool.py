@@ -31,7 +31,7 @@ def _numbers(kind: type) -> Any:
 def flag_table() -> list[tuple[str, list[tuple[str, str, dict[str, Any]]]]]:
     """The flags by group: (group title, [(flag, the definition file's field it sets, argparse options)])."""
     from ..pool.definition import MUSCLE_MODELS
-    from ..pool.motoneuron import CHANNELS, PROFILES
+    from ..pool.motoneuron import CHANNELS, PROFILES, describe_profiles
     from ..pool.pool_file import DRIVES
     from ..sim.simulator import ENGINES
 
@@ -55,9 +55,7 @@ def flag_table() -> list[tuple[str, list[tuple[str, str, dict[str, Any]]]]]:
                                 "linearly with rank)"}),
             ("--axon-length-mm", "units.axon_length_mm", {**number, "help": "axon length (mm)"}),
             ("--motoneurons", "units.motoneurons",
-             {"choices": tuple(PROFILES), "help": "the reduced cells' profile: human (minimum rate, late adaptation "
-                                                 "and AHPs of human motor units) or default (cells scaled to cat "
-                                                 "data)"}),
+             {"choices": tuple(PROFILES), "help": f"the reduced cells' profile ({describe_profiles()})"}),
             ("--neuromodulation", "units.neuromodulation",
              {**number, "help": "PIC strength (0: none; 1: the decerebrate cat's; default: the profile's)"}),
             ("--muscle", "units.muscle", {"choices": MUSCLE_MODELS, "help": "three Kim mechanisms, fused "

@@ -140,6 +140,11 @@ PROFILES: dict[str, MotoneuronProfile] = {
 }
 
 
+def describe_profiles() -> str:
+    """One line naming every profile and what it is (``MotoneuronProfile.about``), for help texts."""
+    return "; ".join(f"{p.name}: {p.about}" for p in PROFILES.values())
+
+
 def motoneuron_profile(name: str) -> MotoneuronProfile:
     """The profile called ``name`` (``PROFILES``); InputError naming the known ones otherwise."""
     if name not in PROFILES:
