@@ -24,7 +24,7 @@ The units are not matched one to one.
 
 Run: python networks/pool_vs_recorded.py --out DIR [--file F.mat ...] [--units N] [--corrections K] [--full]
                                           [--seed S] [--depth-attenuation A] [--motoneurons default|human]
-                                          [--neuromodulation NM]
+                                          [--neuromodulation NM] [--noise-uS S]
                                           [--set NAME=VALUE ...] [--scale NAME=FACTOR ...]
                                           [--p0-spread published|recording]
 Default: S1_30_36L.mat, 40 units, one correction, seed 0, the module's depth attenuation.  --full: every file, 80
@@ -178,8 +178,8 @@ def table(rows: list[dict[str, Any]]) -> list[str]:
              "medians inside rec 5-95 % pool / ident. | peak Hz rec max / pool max (ratio) | thresholds KS pool / "
              "ident. (ident. over 20 seeds: median, 5-95 %; all 20 seeds' units together [by chance: median, "
              "95 %]) | onion skin rho rec / pool / ident. | Delta F Hz rec / pool | plateau rate decline Hz rec / "
-             "pool |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "pool | plateau ISI CV median rec / pool |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         s, c = r["summary"], r["summary"]["criteria"]
         rec, mod = s["recorded"], s["model"]
@@ -196,8 +196,15 @@ def table(rows: list[dict[str, Any]]) -> list[str]:
             f"{c['thresholds_ks']['value']:.2f} / {ci['thresholds_ks']['value']:.2f}{_over_seeds(idn)} | "
             f"{rec['onion_skin_rho']:.2f} / {mod['onion_skin_rho']:.2f} / {idn['onion_skin_rho']:.2f} | "
             f"{c['delta_f_hz']['recorded']:.1f} / {c['delta_f_hz']['value']:.1f} | "
-            f"{rec['plateau_rate_decline_hz']:.1f} / {mod['plateau_rate_decline_hz']:.1f} |")
+            f"{rec['plateau_rate_decline_hz']:.1f} / {mod['plateau_rate_decline_hz']:.1f} | "
+            f"{_cv(rec)} / {_cv(mod)} |")
     return lines
+
+
+def _cv(side: dict[str, Any]) -> str:
+    """The median plateau ISI CV of one side's summary, or "-"."""
+    cv = side.get("isi_cv_p5_p50_p95")
+    return "-" if cv is None else f"{cv[1]:.2f}"
 
 
 def _over_seeds(identified: dict[str, Any]) -> str:
@@ -238,6 +245,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--scale", action="append", default=[], metavar="NAME=FACTOR",
                     help="a size-dependent motoneuron parameter multiplied in every cell, on top of the muscle's own "
                          "and the profile's scales, e.g. ca_decay_ms=1.5 (AHPs half as long again; repeatable)")
+    ap.add_argument("--noise-uS", type=float, default=None,
+                    help="each motoneuron's own synaptic noise (uS, its standard deviation at a drive of 1 uS; "
+                         "default: the profile's)")
     ap.add_argument("--calibration-top-uS", type=float, default=1.2,
                     help="the calibration triangle's peak drive (uS): raise it for motoneurons that need more drive "
                          "to recruit the whole pool")
@@ -261,13 +271,16 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         motoneuron_parameters(0.0, scales=scales)
     except InputError as e:
         ap.error(f"--scale: {e}")
+    if a.noise_uS is not None and not (np.isfinite(a.noise_uS) and a.noise_uS >= 0.0):
+        ap.error(f"--noise-uS must be a number >= 0, got {a.noise_uS}")
     for flag, value in (("--calibration-top-uS", a.calibration_top_uS),
                         ("--calibration-ramp-ms", a.calibration_ramp_ms)):
         if not np.isfinite(value) or value <= 0.0:
             ap.error(f"{flag} must be a number > 0, got {value}")
     options: dict[str, Any] = {"motoneuron_overrides": overrides,
                                "neuromodulation": profile.neuromodulation if a.neuromodulation is None
-                               else a.neuromodulation}
+                               else a.neuromodulation,
+                               "synaptic_noise_uS": profile.synaptic_noise_uS if a.noise_uS is None else a.noise_uS}
     names = list(ALL_FILES) if a.full and not a.file else (a.file or ["S1_30_36L.mat"])
     paths = [Path(f) if Path(f).is_file() else Path(a.data_dir) / f for f in names]
     stems = [p.stem for p in paths]
@@ -317,6 +330,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                         "neuromodulation": cal.definition.neuromodulation,
                         "motoneuron_overrides": dict(cal.definition.motoneuron_overrides),
                         "motoneurons": a.motoneurons, "motoneuron_scales": dict(cal.definition.motoneuron_scales),
+                        "synaptic_noise_uS": cal.definition.synaptic_noise_uS,
+                        "noise_seed": cal.definition.noise_seed,
                         "calibration_top_uS": a.calibration_top_uS,
                         "calibration_ramp_ms": a.calibration_ramp_ms},
                "identification": {**ident_model.provenance(), "motor_units": HUMAN_MUSCLES[m].motor_units},

@@ -58,6 +58,10 @@ def flag_table() -> list[tuple[str, list[tuple[str, str, dict[str, Any]]]]]:
              {"choices": tuple(PROFILES), "help": f"the reduced cells' profile ({describe_profiles()})"}),
             ("--neuromodulation", "units.neuromodulation",
              {**number, "help": "PIC strength (0: none; 1: the decerebrate cat's; default: the profile's)"}),
+            ("--synaptic-noise-us", "units.synaptic_noise_uS",
+             {**number, "help": "each cell's own synaptic noise, standard deviation (uS; 0: none; the fixed step "
+                                "only; default: the profile's)"}),
+            ("--noise-seed", "units.noise_seed", {"type": int, "help": "seed of the cells' synaptic noise"}),
             ("--muscle", "units.muscle", {"choices": MUSCLE_MODELS, "help": "three Kim mechanisms, fused "
                                           "(KimUnit) or fused_fixed (KimUnitFixed: the fixed step only)"}),
             ("--channels", "units.channels", {"choices": CHANNELS, "help": "motoneuron channel mechanisms"})]),
@@ -137,6 +141,7 @@ def _provenance(setup: Any, args: argparse.Namespace) -> dict[str, Any]:
     return {"definition": setup.document, "definition_file": args.definition, "command": " ".join(sys.argv),
             "drive_detail": setup.drive.to_dict(), "muscle_parameters": d.muscle.to_json(),
             "axon_length_mm": d.axon_length_mm, "neuromodulation": d.neuromodulation,
+            "synaptic_noise_uS": d.synaptic_noise_uS, "noise_seed": d.noise_seed,
             "motoneuron_overrides": dict(d.motoneuron_overrides), "motoneuron_scales": dict(d.motoneuron_scales)}
 
 

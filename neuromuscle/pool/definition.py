@@ -67,6 +67,10 @@ class PoolDefinition:
     membrane steps, its current still every step.
     ``size_spacing``: how sizes spread over the ranks (``size_index``).  ``p0_N``: every unit's P0 (N, recruitment
     order) instead of the exponential spread.
+    ``synaptic_noise_uS``: each motoneuron's own synaptic input, a conductance (reversal 0 mV) fluctuating
+    around the common drive with this standard deviation (uS; 0: none) and correlation time
+    ``synaptic_noise_tau_ms`` (ms), independent between cells, drawn from ``noise_seed`` (mod/MnNoise.mod; the
+    fixed step only): what makes discharges irregular as recorded ones are.
     ``motoneuron_channels``: "fused" (mn_soma + mn_pic, tabulated rates), "fused_fixed" (mn_soma_fixed +
     mn_pic_fixed: the same, cheaper, the fixed step only) or "separate" (one mechanism per channel, the reference);
     see ``motoneuron.CHANNELS``."""
@@ -90,6 +94,9 @@ class PoolDefinition:
     size_spacing: float = 1.0
     p0_N: tuple[float, ...] | None = None
     motoneuron_scales: Mapping[str, float] = field(default_factory=dict)
+    synaptic_noise_uS: float = 0.0
+    synaptic_noise_tau_ms: float = 5.0
+    noise_seed: int = 0
 
     def __post_init__(self) -> None:
         where = f"pool {self.name!r}"
@@ -102,6 +109,12 @@ class PoolDefinition:
             raise InputError(f"{where}: max_size must lie in [0, 1], got {size}")
         positive_number(f"{where}: axon_length_mm", self.axon_length_mm)
         nonnegative_number(f"{where}: neuromodulation", self.neuromodulation)
+        nonnegative_number(f"{where}: synaptic_noise_uS", self.synaptic_noise_uS)
+        positive_number(f"{where}: synaptic_noise_tau_ms", self.synaptic_noise_tau_ms)
+        seed = self.noise_seed
+        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2**32:
+            raise InputError(f"{where}: noise_seed must be an integer in [0, 2**32) (a Random123 id), got {seed!r}")
+        object.__setattr__(self, "noise_seed", int(seed))
         if positive_number(f"{where}: size_spacing", self.size_spacing) < 1.0:
             raise InputError(f"{where}: size_spacing must be >= 1 (1: sizes uniform in rank), got {self.size_spacing}")
         if set(self.twitch_speed) != set(TYPES):

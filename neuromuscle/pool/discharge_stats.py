@@ -7,6 +7,7 @@ like (``networks/pool_vs_recorded.py``):
     thr = recruitment_thresholds(trains_ms, t_ms, force)          # force (% MVC) at each unit's first discharge
     onion = onion_skin(trains_ms, t_ms, force, plateau_ms)        # earlier-recruited units faster on the plateau?
     df = delta_f(trains_ms)                                       # paired-unit Delta F (Gorassini et al. 2002)
+    cv = isi_cv(trains_ms, plateau_ms)                            # each unit's discharge irregularity on the plateau
     ks_distance(a, b)                                             # two-sample Kolmogorov-Smirnov distance
 
 Instantaneous rate: 1 / ISI for the intervals shorter than ``MAX_ISI_MS`` (longer ones separate firing episodes,
@@ -41,6 +42,12 @@ MIN_REFERENCE_MODULATION_HZ = 0.5
 #: trapezoidal isometric contractions at 30-50 % MVC), and the largest unit peak (95th percentile) rate among them.
 HUMAN_MEDIAN_RATES_HZ = (10.1, 23.4)
 HUMAN_PEAK_RATE_HZ = 46.1
+#: The same units' interspike-interval coefficients of variation on the plateaus (``isi_cv``): median and 5th-95th
+#: percentiles.
+HUMAN_ISI_CV_MEDIAN = 0.165
+HUMAN_ISI_CV = (0.108, 0.421)
+#: Fewest plateau intervals for an interspike-interval coefficient of variation.
+MIN_CV_INTERVALS = 10
 
 
 def _trains(trains_ms: Sequence[Sequence[float]]) -> list[np.ndarray]:
@@ -90,6 +97,19 @@ def inside_human_range(rates: UnitRates) -> float:
     m = rates.median_hz[np.isfinite(rates.median_hz)]
     lo, hi = HUMAN_MEDIAN_RATES_HZ
     return float(np.mean((m >= lo) & (m <= hi))) if m.size else float("nan")
+
+
+def isi_cv(trains_ms: Sequence[Sequence[float]], window_ms: tuple[float, float]) -> np.ndarray:
+    """Each unit's interspike-interval coefficient of variation (1: standard deviation / mean) over its intervals
+    within ``window_ms`` (ms, e.g. the plateau) shorter than MAX_ISI_MS; NaN for a unit with fewer than
+    MIN_CV_INTERVALS of them."""
+    a, b = window_ms
+    out = []
+    for t in _trains(trains_ms):
+        isi = np.diff(t[(t >= a) & (t <= b)])
+        isi = isi[isi < MAX_ISI_MS]
+        out.append(float(np.std(isi) / np.mean(isi)) if isi.size >= MIN_CV_INTERVALS else np.nan)
+    return np.array(out)
 
 
 def recruitment_thresholds(trains_ms: Sequence[Sequence[float]], t_ms: np.ndarray, force: np.ndarray

@@ -104,24 +104,31 @@ SIZE_RANGE: dict[str, tuple[float, float]] = {
 #: Neuromodulation of human voluntary contractions: the PIC strength (fraction of full) that gives human motor
 #: units their recruitment-derecruitment hysteresis (see the module docstring).
 HUMAN_NEUROMODULATION = 0.6
+#: Each cell's own synaptic noise (uS at a drive of 1 uS; ``PoolDefinition.synaptic_noise_uS``) with which the
+#: human profile's cells, at steady drives of 0.6-1.0 uS, vary their interspike intervals as the decomposed human
+#: units do (CV 0.11-0.34, median near the recorded 0.165).  No profile sets it: with it the same cells are
+#: recruited by the fluctuations at low rates (docs/guide/pools.md, "Synaptic noise").
+IRREGULAR_NOISE_US = 0.05
 
 
 @dataclass(frozen=True)
 class MotoneuronProfile:
     """A named setting of a pool's reduced cells: the neuromodulation, fields replaced in every cell
-    (``overrides``) and factors on size-dependent parameters (``scales``), as ``PoolDefinition`` takes them
-    (``pool_options``)."""
+    (``overrides``), factors on size-dependent parameters (``scales``) and each cell's own synaptic noise
+    (``synaptic_noise_uS``, uS), as ``PoolDefinition`` takes them (``pool_options``)."""
 
     name: str
     neuromodulation: float
     overrides: tuple[tuple[str, float], ...] = ()
     scales: tuple[tuple[str, float], ...] = ()
     about: str = ""
+    synaptic_noise_uS: float = 0.0
 
     def pool_options(self) -> dict[str, Any]:
-        """``PoolDefinition`` keyword arguments: neuromodulation, motoneuron_overrides, motoneuron_scales."""
+        """``PoolDefinition`` keyword arguments: neuromodulation, motoneuron_overrides, motoneuron_scales,
+        synaptic_noise_uS."""
         return {"neuromodulation": self.neuromodulation, "motoneuron_overrides": dict(self.overrides),
-                "motoneuron_scales": dict(self.scales)}
+                "motoneuron_scales": dict(self.scales), "synaptic_noise_uS": self.synaptic_noise_uS}
 
 
 #: The pools' motoneuron profiles.  "default": the cells as scaled to cat data (module docstring) with the PIC at

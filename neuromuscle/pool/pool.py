@@ -60,6 +60,8 @@ STEP_RECORD_BUDGET_BYTES = 64 * 2**20
 #: The synaptic drive is held constant over steps of this length (ms), set by events: far cheaper than an
 #: interpolation every time step, and finer than anything a drive of muscle force needs.
 SYNAPTIC_STEP_MS = 5.0
+#: Third Random123 id of the motoneurons' synaptic noise (Poisson drives use 1).
+NOISE_STREAM = 2
 
 
 def _nobody() -> None:
@@ -132,6 +134,7 @@ class Pool:
         self._discharges: dict[int, np.ndarray] = {}
         self._unit_secs: list[Any] = []
         self._record: tuple[tuple[str, ...], tuple[int, ...]] | None = None
+        self._noise: list[Any] = []
         shared = None if self.per_unit_length else self._new_length(h, self._sec)
         pc.gid_clear()
         for u in self.specs:
@@ -150,6 +153,8 @@ class Pool:
                 if cells is not None and definition.pic_substeps > 1:
                     _set_pic_substeps(cell, int(definition.pic_substeps))
                 self.cells[u.index] = cell
+                if definition.synaptic_noise_uS > 0.0:
+                    self._noise.append(self._new_noise(h, cell, u.index))
                 det = h.NetCon(cell.spike_source(), None, sec=cell.soma)
                 det.threshold = SPIKE_THRESHOLD_MV
                 pc.cell(u.index, det)
@@ -161,6 +166,15 @@ class Pool:
         self._spike_t, self._spike_gid = h.Vector(), h.Vector()
         if motoneurons:
             pc.spike_record(-1, self._spike_t, self._spike_gid)
+
+    def _new_noise(self, h: Any, cell: MotoneuronCell, gid: int) -> Any:
+        """The cell's own synaptic noise (MnNoise at the soma; ``PoolDefinition.synaptic_noise_uS``): its Random123
+        stream is (noise_seed, gid, NOISE_STREAM), the same whatever rank or thread holds the unit."""
+        d = self.definition
+        noise = h.MnNoise(cell.soma(0.5))
+        noise.sigma, noise.tau = 0.0, float(d.synaptic_noise_tau_ms)   # sigma follows the drive (_play_noise)
+        noise.rng.set_ids(int(d.noise_seed), int(gid), NOISE_STREAM)
+        return noise
 
     def _excitation(self) -> Any:
         """The muscle model of every unit: None (the three Kim mechanisms) or a fresh KimUnit (KimUnitFixed)."""
@@ -251,7 +265,25 @@ class Pool:
             events = sim.engine != "coreneuron"
             for cell in self.cells.values():
                 self._synaptic_plays.extend(cell.play_synaptic_conductance(tv, steps, events=events))
+        self._play_noise(h, tv, steps, events=sim.engine != "coreneuron")
         self._synaptic_kind = kind
+
+    def _play_noise(self, h: Any, tv: Any, steps: np.ndarray, events: bool) -> None:
+        """Each cell's noise follows the common drive g(t): standard deviation synaptic_noise_uS sqrt(g / 1 uS), the
+        shot noise of inputs whose number or rate makes the drive (variance in proportion to the mean), in the
+        drive's own steps (events under NEURON; under CoreNEURON a continuous play of the same steps)."""
+        if not self._noise:
+            return
+        sigma = float(self.definition.synaptic_noise_uS) * np.sqrt(steps)
+        times = tv
+        if not events:
+            times = h.Vector(np.repeat(np.asarray(tv, float), 2)[1:])
+            sigma = np.repeat(sigma, 2)[:-1]
+            self._synaptic_plays.append(times)
+        for noise in self._noise:
+            vec = h.Vector(sigma)
+            vec.play(noise._ref_sigma, times, 0 if events else 1)
+            self._synaptic_plays.append(vec)
 
     def _release_synaptic(self) -> None:
         """Take the common synaptic drive off the cells (before another wiring, and at destroy)."""
@@ -401,6 +433,14 @@ class Pool:
             if last > duration_ms:
                 raise InputError(f"discharges reach {last:g} ms, beyond the run of {duration_ms:g} ms")
         sim = simulator or Simulator(method="fixed", dt_ms=0.025, engine=self.engine)
+        if self._noise and sim.method != "fixed":
+            raise InputError(f"pool {self.definition.name!r}: synaptic noise (synaptic_noise_uS = "
+                             f"{self.definition.synaptic_noise_uS:g} uS) needs the fixed step; the variable step "
+                             "cannot integrate a noise drawn once a step")
+        if self._noise and self._drive != "synaptic":
+            raise InputError(f"pool {self.definition.name!r}: synaptic noise (synaptic_noise_uS = "
+                             f"{self.definition.synaptic_noise_uS:g} uS) rides on the common synaptic drive "
+                             f"(drive_synaptic), not on the {self._drive} drive: set synaptic_noise_uS = 0")
         if sim.engine != self.engine:
             raise InputError(f"pool {self.definition.name!r} was built for engine {self.engine!r}, the simulator "
                              f"asks for {sim.engine!r}: give Pool(..., engine={sim.engine!r}) or a simulator with "
@@ -471,6 +511,7 @@ class Pool:
         """Remove every NEURON object of the pool (idempotent)."""
         pc = parallel_context()
         self._keep.clear()
+        self._noise.clear()
         if self._drive == "current":
             self._ramp[1].play_remove()
             self._clamps.clear()

@@ -12,6 +12,9 @@
     axon_length_mm = 900.0
     motoneurons = "human"              # the cells' profile: "human" or "default" (motoneuron.PROFILES)
     neuromodulation = 0.6              # PIC strength (0: none; 1: the decerebrate cat's); default: the profile's
+    synaptic_noise_uS = 0.0            # each cell's own synaptic noise (uS, its standard deviation at a drive
+                                       # of 1 uS; the fixed step and synaptic drives only); default: the profile's
+    noise_seed = 0                     # seed of that noise
     muscle = "modules"                 # or "fused", "fused_fixed"
     channels = "fused"                 # or "fused_fixed", "separate"
     [drive]
@@ -76,7 +79,8 @@ from .reflex import ReflexDefinition
 FIELDS: dict[str, dict[str, Any]] = {
     "units": {"count": 20, "params": "CT09", "types": [0.7, 0.2, 0.1], "total_p0_N": 600.0, "smallest_p0_N": None,
               "p0_range": 100.0, "max_size": 1.0, "size_spacing": 1.0, "axon_length_mm": 900.0,
-              "motoneurons": "human", "neuromodulation": None, "muscle": "modules", "channels": "fused"},
+              "motoneurons": "human", "neuromodulation": None, "synaptic_noise_uS": None, "noise_seed": 0,
+              "muscle": "modules", "channels": "fused"},
     "drive": {"kind": "ramp", "peak_uS": 0.7, "peak_nA": 40.0, "times_ms": None, "values_uS": None,
               "values_nA": None, "rate_hz": 400.0, "weight_uS": 0.15, "seed": 0},
     "length": {"kind": "isometric", "mm": -8.0, "seed": 0, "centre_mm": -8.0, "low_mm": -16.0, "high_mm": 0.0,
@@ -259,6 +263,9 @@ def _definition(f: _Fields) -> PoolDefinition:
               "motoneuron_channels": f.choice("units.channels", CHANNELS), "name": f.text("name")}
     if f.raw("units.neuromodulation") is not None:
         fields["neuromodulation"] = f.number("units.neuromodulation", lambda x: x >= 0, ">= 0")
+    if f.raw("units.synaptic_noise_uS") is not None:
+        fields["synaptic_noise_uS"] = f.number("units.synaptic_noise_uS", lambda x: x >= 0, ">= 0")
+    fields["noise_seed"] = f.integer("units.noise_seed", 0)
     try:
         return PoolDefinition(n, muscle, smallest_p0_N=smallest, p0_range=p0_range, type_fractions=types, **fields)
     except InputError as exc:
@@ -409,6 +416,13 @@ def pool_setup(doc: Mapping[str, Any], source: str, flagged: Mapping[str, str] |
         raise InputError(f"{f.where('run.secondorder')} must be 0, 1 or 2 and 0 under CVODE (NEURON's fixed-step "
                          f"scheme), got {secondorder}")
     definition = _definition(f)
+    if definition.synaptic_noise_uS > 0.0 and method != "fixed":
+        raise InputError(f"{f.where('run.method')} = {method!r}: the motoneurons' synaptic noise (units."
+                         f"synaptic_noise_uS = {definition.synaptic_noise_uS:g} uS) is drawn once a fixed step; "
+                         "set units.synaptic_noise_uS = 0 for CVODE")
+    if definition.synaptic_noise_uS > 0.0 and f.raw("drive.kind") in ("current", "poisson"):
+        raise InputError(f"{f.where('units.synaptic_noise_uS')} = {definition.synaptic_noise_uS:g} uS rides on the "
+                         f"common synaptic drive (drive.kind ramp, rise or synaptic), not on {f.raw('drive.kind')!r}")
     try:
         definition.units()
     except InputError as exc:

@@ -45,6 +45,7 @@ class SideStats:
     onion: ds.OnionSkin
     delta_f: ds.DeltaF
     plateau_decline_hz: float
+    isi_cv: np.ndarray
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready figures."""
@@ -52,16 +53,24 @@ class SideStats:
                 "onion_skin_slope_hz_per_percent_mvc": self.onion.slope_hz_per_unit,
                 "thresholds_percent_mvc_quartiles": [float(x) for x in np.nanpercentile(self.thresholds_percent,
                                                                                           [0, 25, 50, 75, 100])],
-                "delta_f": self.delta_f.summary(), "plateau_rate_decline_hz": self.plateau_decline_hz}
+                "delta_f": self.delta_f.summary(), "plateau_rate_decline_hz": self.plateau_decline_hz,
+                "isi_cv_p5_p50_p95": _percentiles(self.isi_cv)}
+
+
+def _percentiles(x: np.ndarray) -> list[float] | None:
+    """5th, 50th and 95th percentiles of the finite values (None when there are none)."""
+    x = np.asarray(x, float)
+    x = x[np.isfinite(x)]
+    return [float(v) for v in np.percentile(x, [5, 50, 95])] if x.size else None
 
 
 def side_stats(trains_ms: Sequence[np.ndarray], t_ms: np.ndarray, force_percent: np.ndarray,
                plateau_ms: tuple[float, float]) -> SideStats:
-    """Rates, thresholds, onion skin, Delta F and the rates' decline over the plateau (ms) of one set of trains
-    against its force (% MVC)."""
+    """Rates, thresholds, onion skin, Delta F, the rates' decline over the plateau (ms) and the interspike
+    intervals' variation on it of one set of trains against its force (% MVC)."""
     return SideStats(ds.unit_rates(trains_ms), ds.recruitment_thresholds(trains_ms, t_ms, force_percent),
                      ds.onion_skin(trains_ms, t_ms, force_percent, plateau_ms), ds.delta_f(trains_ms),
-                     ds.plateau_rate_decline_hz(trains_ms, plateau_ms))
+                     ds.plateau_rate_decline_hz(trains_ms, plateau_ms), ds.isi_cv(trains_ms, plateau_ms))
 
 
 def side_criteria(side: SideStats, recorded: SideStats, medians_range_hz: tuple[float, float],

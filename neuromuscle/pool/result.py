@@ -77,6 +77,9 @@ class PoolResult:
                           muscle_substeps=int(definition.muscle_substeps),
                           motoneuron_channels=definition.motoneuron_channels,
                           pic_substeps=int(getattr(definition, "pic_substeps", 1)),
+                          synaptic_noise_uS=float(getattr(definition, "synaptic_noise_uS", 0.0)),
+                          synaptic_noise_tau_ms=float(getattr(definition, "synaptic_noise_tau_ms", 5.0)),
+                          noise_seed=int(getattr(definition, "noise_seed", 0)),
                           length_mm=(length if isinstance(length, float) else getattr(length, "name", "trace")))
         return cls(t, f, [np.asarray(spikes[u.index], float) for u in specs], [u.row() for u in specs], drive,
                    ranks, wall_s, prov, dict(recordings or {}))

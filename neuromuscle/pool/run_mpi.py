@@ -70,6 +70,7 @@ class PoolRun:
     secondorder: int = 0
     pic_substeps: int = 1
     motoneurons: str = "default"
+    synaptic_noise_uS: float = 0.0
 
 
 def parser() -> argparse.ArgumentParser:
@@ -108,6 +109,8 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--nthread", type=int, default=d.nthread, help="NEURON threads per rank")
     ap.add_argument("--motoneurons", choices=tuple(PROFILES), default=d.motoneurons,
                     help="the reduced cells' profile (neuromuscle.pool.motoneuron.PROFILES)")
+    ap.add_argument("--synaptic-noise-us", type=float, default=d.synaptic_noise_uS,
+                    help="each cell's own synaptic noise (uS at a drive of 1 uS; --drive synaptic and the fixed step)")
     ap.add_argument("--channels", choices=CHANNELS, default=d.channels,
                     help="motoneuron channels: fused (mn_soma + mn_pic), fused_fixed (mn_soma_fixed + mn_pic_fixed, "
                          "the fixed step only) or separate (one mechanism each)")
@@ -134,7 +137,7 @@ def _config(args: argparse.Namespace) -> PoolRun:
                    record_dt_ms=args.record_dt_ms, muscle=args.muscle, substeps=args.substeps,
                    nthread=args.nthread, channels=args.channels, engine=args.engine,
                    cell_permute=args.cell_permute, secondorder=args.secondorder, pic_substeps=args.pic_substeps,
-                   motoneurons=args.motoneurons)
+                   motoneurons=args.motoneurons, synaptic_noise_uS=args.synaptic_noise_us)
 
 
 def peak_rss_mib() -> float:
@@ -145,7 +148,7 @@ def peak_rss_mib() -> float:
 def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
     """Build and run the pool described by ``cfg`` on this rank (MPI started by the caller); returns the gathered
     PoolResult (on every rank) and the timing report.  Raises InputError before building anything when
-    there are more ranks (``nhost``) than units."""
+    there are more ranks (``nhost``) than units, or synaptic noise without the fixed step and the synaptic drive."""
     from ..errors import InputError
     from ..parameters import load_parameters
     from ..sim import Simulator
@@ -157,7 +160,11 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
     definition = PoolDefinition(cfg.n_units, load_parameters(cfg.params), smallest_p0_N=cfg.smallest_p0_N,
                                 p0_range=cfg.p0_range, muscle_model=cfg.muscle, muscle_substeps=cfg.substeps,
                                 motoneuron_channels=cfg.channels, pic_substeps=cfg.pic_substeps,
-                                **motoneuron_profile(cfg.motoneurons).pool_options())
+                                **{**motoneuron_profile(cfg.motoneurons).pool_options(),
+                                   "synaptic_noise_uS": cfg.synaptic_noise_uS})
+    if cfg.synaptic_noise_uS > 0.0 and (cfg.method != "fixed" or cfg.drive != "synaptic"):
+        raise InputError("--synaptic-noise-us needs --method fixed and --drive synaptic (the noise rides on the common "
+                         "synaptic drive and is drawn once a fixed step)")
     sim = Simulator(method=cfg.method, dt_ms=cfg.dt_ms, atol=cfg.atol, v_init_mV=-70.0, max_wall_s=None,
                     local_dt=cfg.local_dt, nthread=cfg.nthread, label=f"pool of {cfg.n_units} units",
                     engine=cfg.engine, cell_permute=cfg.cell_permute, secondorder=cfg.secondorder)
@@ -170,7 +177,8 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
     result, report = run_definition(definition, drive, sim, cfg.duration_ms, nhost, length=cfg.length_mm,
                                     record_dt_ms=cfg.record_dt_ms)
     report.update({"muscle": cfg.muscle, "substeps": cfg.substeps, "nthread": cfg.nthread,
-                   "channels": cfg.channels, "drive": cfg.drive, "motoneurons": cfg.motoneurons})
+                   "channels": cfg.channels, "drive": cfg.drive, "motoneurons": cfg.motoneurons,
+                   "synaptic_noise_uS": cfg.synaptic_noise_uS})
     return result, report
 
 

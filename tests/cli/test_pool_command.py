@@ -227,6 +227,22 @@ def test_a_json_file_gives_the_same_pool_as_the_flags(tmp_path):
     assert np.array_equal(a.unit_force_N, b.unit_force_N) and a.pool_force_N.max() > 0.0
 
 
+def test_the_noise_flags_reach_the_pool_and_its_provenance(tmp_path):
+    doc = {"units": {"count": 3, "total_p0_N": 30.0, "synaptic_noise_uS": 0.05, "noise_seed": 4},
+           "drive": {"kind": "rise", "peak_uS": 0.5}, "run": {"duration_ms": 300.0}}
+    path = tmp_path / "pool.json"
+    path.write_text(json.dumps(doc))
+    assert main(["pool", str(path), "--out", str(tmp_path / "a"), "--quiet"]) == 0
+    assert main(["pool", "--units", "3", "--total-p0-n", "30", "--drive", "rise", "--peak-us", "0.5",
+                 "--synaptic-noise-us", "0.05", "--noise-seed", "4", "--duration-ms", "300",
+                 "--out", str(tmp_path / "b"), "--quiet"]) == 0
+    assert main(["pool", str(path), "--noise-seed", "5", "--out", str(tmp_path / "c"), "--quiet"]) == 0
+    a, b, c = (load_pool_result(tmp_path / x / "pool.h5") for x in "abc")
+    assert all(np.array_equal(x, y) for x, y in zip(a.spikes_ms, b.spikes_ms)) and sum(map(len, a.spikes_ms)) > 5
+    assert not all(np.array_equal(x, y) for x, y in zip(a.spikes_ms, c.spikes_ms))
+    assert (a.provenance["synaptic_noise_uS"], a.provenance["noise_seed"]) == (0.05, 4)
+
+
 @pytest.mark.parametrize("text, message", [
     ('[units]\ncount = 0\n', "pool.toml: units.count must be an integer >= 1, got 0"),
     ('[units]\ncuont = 3\n', "pool.toml: [units] has no field 'cuont'"),

@@ -107,10 +107,30 @@ def test_the_human_range_is_that_of_the_recorded_units(real_data):
     from neuromuscle.pool.discharges import load_caillet
 
     files = sorted((real_data / "human_mu_spike_trains_caillet").glob("*.mat"))
-    rates = [ds.unit_rates(load_caillet(f).discharges_ms) for f in files]
+    recordings = [load_caillet(f) for f in files]
+    rates = [ds.unit_rates(r.discharges_ms) for r in recordings]
     medians = np.concatenate([r.median_hz for r in rates])
     medians = medians[np.isfinite(medians)]
     assert len(files) == 8 and medians.size == 291
     assert np.percentile(medians, [5, 95]) == pytest.approx(ds.HUMAN_MEDIAN_RATES_HZ, abs=0.05)
     assert max(np.nanmax(r.peak_hz) for r in rates) == pytest.approx(ds.HUMAN_PEAK_RATE_HZ, abs=0.05)
+    cv = np.concatenate([ds.isi_cv(r.discharges_ms, ds.plateau_window_ms(r.force_t_ms, r.force_percent_mvc))
+                         for r in recordings])
+    assert np.isfinite(cv).sum() == 291
+    assert np.nanpercentile(cv, [5, 95]) == pytest.approx(ds.HUMAN_ISI_CV, abs=0.001)
+    assert np.nanmedian(cv) == pytest.approx(ds.HUMAN_ISI_CV_MEDIAN, abs=0.001)
     assert ds.inside_human_range(ds.UnitRates(np.array([9.0, 12.0, 20.0, np.nan]), np.zeros(4))) == pytest.approx(2 / 3)
+
+
+def test_isi_cv_on_the_window_and_its_intervals():
+    rng = np.random.default_rng(4)
+    regular = np.arange(0.0, 5000.0, 50.0)
+    jittery = np.cumsum(rng.gamma(25.0, 2.0, 200))          # intervals of CV 1/sqrt(25) = 0.2
+    paused = np.concatenate([np.arange(0.0, 1000.0, 50.0), np.arange(2000.0, 3000.0, 50.0)])
+    few = np.arange(0.0, 400.0, 50.0)
+    cv = ds.isi_cv([regular, jittery, paused, few], (0.0, 5000.0))
+    assert cv[0] == pytest.approx(0.0, abs=1e-12)
+    assert cv[1] == pytest.approx(0.2, abs=0.03)
+    assert cv[2] == pytest.approx(0.0, abs=1e-12)           # the 1-s pause is not an interval
+    assert np.isnan(cv[3])                                  # 7 intervals: too few
+    assert np.isnan(ds.isi_cv([regular], (6000.0, 9000.0))[0])

@@ -1,6 +1,7 @@
 """Pools under real MPI (``mpiexec -n 2`` in a subprocess): the same spikes and force, bit for bit, as on one rank
-(Poisson drive, current ramp, the local variable time step, the fused muscle with and without substeps); more ranks
-than units and a launcher NEURON did not join are refused with nothing written."""
+(Poisson drive, current ramp, the local variable time step, the fused muscle with and without substeps, the human
+cells with their synaptic noise); more ranks than units and a launcher NEURON did not join are refused with nothing
+written."""
 
 import json
 import os
@@ -36,8 +37,10 @@ def _run(n_ranks, out, args):
                                    "--local-dt"],
                                   ["--drive", "ramp", "--units", "6", "--duration-ms", "300", "--muscle", "fused"],
                                   ["--drive", "poisson", "--units", "6", "--duration-ms", "300", "--muscle", "fused",
-                                   "--substeps", "4"]],
-                         ids=["poisson", "ramp", "local_dt", "fused", "fused_substeps"])
+                                   "--substeps", "4"],
+                                  ["--drive", "synaptic", "--units", "6", "--duration-ms", "300",
+                                   "--motoneurons", "human", "--synaptic-noise-us", "0.05"]],
+                         ids=["poisson", "ramp", "local_dt", "fused", "fused_substeps", "human_noise"])
 def test_two_ranks_give_the_same_pool_as_one(tmp_path, args):
     one, rep1 = _run(1, tmp_path / "one.h5", args)
     two, rep2 = _run(2, tmp_path / "two.h5", args)
@@ -66,4 +69,13 @@ def test_launcher_that_neuron_did_not_join_is_refused(tmp_path):
     proc = _launch(0, ["--units", "2", "--duration-ms", "50", "--out", str(out)], env=env)
     assert proc.returncode == 2
     assert "the MPI launcher started 2 ranks but NEURON joined 1" in proc.stderr
+    assert not out.exists()
+
+
+def test_noise_without_the_synaptic_drive_is_refused(tmp_path):
+    out = tmp_path / "never.h5"
+    proc = _launch(0, ["--units", "2", "--duration-ms", "50", "--drive", "ramp", "--synaptic-noise-us", "0.05",
+                       "--out", str(out)])
+    assert proc.returncode == 2, proc.stderr[-2000:]
+    assert "--synaptic-noise-us needs --method fixed and --drive synaptic" in proc.stderr
     assert not out.exists()

@@ -1,9 +1,10 @@
 """Pools under CoreNEURON: the same spikes, unit forces and pool force as under NEURON, bit for bit (a current ramp
 with any muscle model and either channel set, Poisson input, recorded discharges, the synaptic drive at dt 0.05
-ms in either of CoreNEURON's layouts), also when the run is made in chunks to bound the every-step recordings, and
-on two MPI ranks; a simulator of the other engine is refused.  NEURON's threshold-crossing interpolation
-(``CVode.condition_order(2)``) changes nothing under either engine's fixed step.  Under Crank-Nicolson (secondorder
-2) the engines give the same spikes and forces (to rounding with the three muscle mechanisms)."""
+ms in either of CoreNEURON's layouts, each cell's synaptic noise), also when the run is made in chunks to bound the
+every-step recordings, and on two MPI ranks; a simulator of the other engine is refused.  NEURON's
+threshold-crossing interpolation (``CVode.condition_order(2)``) changes nothing under either engine's fixed step.
+Under Crank-Nicolson (secondorder 2) the engines give the same spikes and forces (to rounding with the three muscle
+mechanisms)."""
 
 import json
 import subprocess
@@ -78,6 +79,18 @@ def test_coreneuron_under_crank_nicolson_is_neurons_bit_for_bit(ct09, muscle, su
 def test_coreneuron_takes_every_drive(ct09, drive):
     d = PoolDefinition(4, ct09, muscle_model="fused")
     _assert_same(_run(d, "neuron", drive), _run(d, "coreneuron", drive))
+
+
+def test_coreneuron_takes_the_synaptic_noise_bit_for_bit(ct09):
+    """Each cell's own noise (MnNoise, a Random123 stream per cell) draws the same numbers under either engine."""
+    d = PoolDefinition(4, ct09, muscle_model="fused", synaptic_noise_uS=0.05)
+    runs = []
+    for engine in ("neuron", "coreneuron"):
+        with Pool(d, length=-8.0, engine=engine) as pool:
+            pool.drive_synaptic([0.0, 300.0], [0.0, 0.6])
+            runs.append(pool.run(300.0, Simulator(engine=engine)))
+    _assert_same(*runs)
+    assert runs[1].provenance["synaptic_noise_uS"] == 0.05
 
 
 @pytest.mark.parametrize("cell_permute", [0, 1])

@@ -37,8 +37,18 @@ def test_the_motoneuron_profile_and_an_explicit_neuromodulation():
         pool_setup({"units": {"motoneurons": "cat"}}, "test")
 
 
+def test_the_synaptic_noise_is_off_unless_set():
+    human = pool_setup({}, "test").definition
+    assert human.synaptic_noise_uS == 0.0 and human.noise_seed == 0
+    mine = pool_setup({"units": {"synaptic_noise_uS": 0.02, "noise_seed": 9}}, "test").definition
+    assert (mine.synaptic_noise_uS, mine.noise_seed) == (0.02, 9)
+    quiet = pool_setup({"units": {"synaptic_noise_uS": 0}, "run": {"method": "cvode"}}, "test")
+    assert quiet.definition.synaptic_noise_uS == 0.0 and quiet.simulator.method == "cvode"
+
+
 def test_fields_reach_the_pieces():
-    doc = {"name": "ta", "units": {"count": 5, "smallest_p0_N": 0.3, "p0_range": 10.0, "muscle": "fused"},
+    doc = {"name": "ta", "units": {"count": 5, "smallest_p0_N": 0.3, "p0_range": 10.0, "muscle": "fused",
+                                   "synaptic_noise_uS": 0.0},
            "drive": {"kind": "synaptic", "times_ms": [0, 100, 200], "values_uS": [0, 0.4, 0.2]},
            "length": {"kind": "random", "seed": 3, "band_hz": 20.0},
            "run": {"duration_ms": 200.0, "record_dt_ms": 0.5, "method": "cvode"},
@@ -77,6 +87,12 @@ def test_the_size_range_reaches_the_definition():
     ({"units": {"count": True}}, "src: units.count must be an integer >= 1, got True"),
     ({"units": {"types": [1, 0]}}, "src: units.types must be a list of 3 numbers"),
     ({"units": {"neuromodulation": -1}}, "src: units.neuromodulation must be >= 0"),
+    ({"units": {"synaptic_noise_uS": -1}}, "src: units.synaptic_noise_uS must be >= 0"),
+    ({"units": {"noise_seed": -1}}, "src: units.noise_seed must be an integer >= 0"),
+    ({"units": {"synaptic_noise_uS": 0.05}, "run": {"method": "cvode"}},
+     "src: run.method = 'cvode': the motoneurons' synaptic noise \\(units.synaptic_noise_uS = 0.05 uS"),
+    ({"units": {"synaptic_noise_uS": 0.05}, "drive": {"kind": "current"}},
+     "src: units.synaptic_noise_uS = 0.05 uS rides on the common synaptic drive .* not on 'current'"),
     ({"units": {"count": 3, "total_p0_N": 30, "muscle": "fused", "channels": "both"}},
      "src: units.channels must be one of fused, fused_fixed, separate"),
     ({"units": 3}, "src: \\[units\\] must be a section"),

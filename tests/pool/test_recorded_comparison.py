@@ -35,3 +35,14 @@ def test_a_fast_early_pool_fails_rates_and_thresholds():
     assert not crit["medians_inside"]["pass"] and not crit["peak_ratio"]["pass"]
     assert not crit["thresholds_ks"]["pass"] and not crit["onion_skin"]["pass"]
     assert set(c.summary()) == {"plateau_ms", "model_units", "recorded", "model", "criteria"}
+    # periodic trains: no interval varies; every unit fires through the plateau
+    assert np.allclose(c.summary()["recorded"]["isi_cv_p5_p50_p95"], 0.0, atol=1e-12)
+
+
+def test_the_plateau_isi_cv_of_each_side():
+    rng = np.random.default_rng(1)
+    rec = [np.cumsum(rng.gamma(25.0, 50.0 / 25.0, 380)) + 500.0 for _ in range(6)]   # CV 0.2 about 20 Hz
+    c = compare_discharges(_trial(rec), _trains(np.full(6, 20.0), np.linspace(100.0, 600.0, 6)), T, FORCE)
+    recorded, model = c.summary()["recorded"]["isi_cv_p5_p50_p95"], c.summary()["model"]["isi_cv_p5_p50_p95"]
+    assert np.all(np.isfinite(c.recorded.isi_cv)) and abs(recorded[1] - 0.2) < 0.03
+    assert model[2] < 1e-9

@@ -1,0 +1,58 @@
+TITLE MnNoise: independent synaptic noise on a motoneuron, a fluctuating conductance
+
+COMMENT
+The part of a motoneuron's synaptic input that no other cell shares (neuromuscle.pool: PoolDefinition's
+synaptic_noise_uS): a conductance g (uS) with reversal e (0 mV, excitatory), an Ornstein-Uhlenbeck process of
+mean 0, standard deviation sigma (uS) and correlation time tau (ms), as in the point-conductance model of
+synaptic bombardment (Destexhe, Rudolph, Fellous & Sejnowski 2001):
+
+    i = g (v - e)                                                   (nA)
+    g(t + dt) = g(t) exp(-dt/tau) + sigma sqrt(1 - exp(-2 dt/tau)) N(0, 1)
+
+The update is the process's exact transition over one step, so its statistics do not depend on dt.  It is made
+once per fixed time step (BEFORE BREAKPOINT); the variable-step integrator cannot take it (the pool refuses).
+Each instance draws from its own Random123 stream (RANDOM rng; the pool sets its ids from the seed and the unit's
+gid) and restarts it at every finitialize, so a run is the same when replayed and on any number of ranks and
+threads.  The common drive (mn_syn) carries the mean; this process carries the fluctuation of each cell's own
+inputs around it.
+ENDCOMMENT
+
+NEURON {
+    POINT_PROCESS MnNoise
+    NONSPECIFIC_CURRENT i
+    RANGE sigma, tau, e, g, i
+    RANDOM rng
+    THREADSAFE
+}
+
+UNITS {
+    (nA) = (nanoamp)
+    (mV) = (millivolt)
+    (uS) = (microsiemens)
+}
+
+PARAMETER {
+    sigma = 0 (uS)
+    tau = 5 (ms)
+    e = 0 (mV)
+}
+
+ASSIGNED {
+    dt (ms)
+    v (mV)
+    i (nA)
+    g (uS)
+}
+
+INITIAL {
+    random_setseq(rng, 0)
+    g = sigma * random_normal(rng)
+}
+
+BEFORE BREAKPOINT {
+    g = g * exp(-dt / tau) + sigma * sqrt(1 - exp(-2 * dt / tau)) * random_normal(rng)
+}
+
+BREAKPOINT {
+    i = g * (v - e)
+}
