@@ -7,10 +7,12 @@ mean 0, standard deviation sigma (uS) and correlation time tau (ms), as in the p
 synaptic bombardment (Destexhe, Rudolph, Fellous & Sejnowski 2001):
 
     i = g (v - e)                                                   (nA)
-    g(t + dt) = g(t) exp(-dt/tau) + sigma sqrt(1 - exp(-2 dt/tau)) N(0, 1)
+    g(t + h) = g(t) exp(-h/tau) + sigma sqrt(1 - exp(-2 h/tau)) N(0, 1)
 
-The update is the process's exact transition over one step, so its statistics do not depend on dt.  It is made
-once per fixed time step (BEFORE BREAKPOINT); the variable-step integrator cannot take it (the pool refuses).
+The update is the process's exact transition over h, so its statistics do not depend on the time step.  It is made
+every ``nstep`` fixed steps (h = nstep dt, the multiple of dt nearest ``update``, 0.1 ms by default, and g held
+between: a normal draw costs more than a reduced cell's step, and a correlation time of ms needs no finer grid);
+the variable-step integrator cannot take it (the pool refuses).
 Each instance draws from its own Random123 stream (RANDOM rng; the pool sets its ids from the seed and the unit's
 gid) and restarts it at every finitialize, so a run is the same when replayed and on any number of ranks and
 threads.  The common drive (mn_syn) carries the mean; this process carries the fluctuation of each cell's own
@@ -20,7 +22,7 @@ ENDCOMMENT
 NEURON {
     POINT_PROCESS MnNoise
     NONSPECIFIC_CURRENT i
-    RANGE sigma, tau, e, g, i
+    RANGE sigma, tau, e, update, g, i
     RANDOM rng
     THREADSAFE
 }
@@ -35,6 +37,7 @@ PARAMETER {
     sigma = 0 (uS)
     tau = 5 (ms)
     e = 0 (mV)
+    update = 0.1 (ms)
 }
 
 ASSIGNED {
@@ -42,15 +45,30 @@ ASSIGNED {
     v (mV)
     i (nA)
     g (uS)
+    decay (1)
+    spread (1)
+    nstep (1)
+    count (1)
 }
 
 INITIAL {
     random_setseq(rng, 0)
+    nstep = floor(update / dt + 0.5)
+    if (nstep < 1) {
+        nstep = 1
+    }
+    decay = exp(-nstep * dt / tau)
+    spread = sqrt(1 - decay * decay)
+    count = 0
     g = sigma * random_normal(rng)
 }
 
 BEFORE BREAKPOINT {
-    g = g * exp(-dt / tau) + sigma * sqrt(1 - exp(-2 * dt / tau)) * random_normal(rng)
+    count = count + 1
+    if (count >= nstep) {
+        count = 0
+        g = g * decay + sigma * spread * random_normal(rng)
+    }
 }
 
 BREAKPOINT {
