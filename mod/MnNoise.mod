@@ -15,8 +15,8 @@ between: a normal draw costs more than a reduced cell's step, and a correlation 
 the variable-step integrator cannot take it (the pool refuses).
 Each instance draws from its own Random123 stream (RANDOM rng; the pool sets its ids from the seed and the unit's
 gid) and restarts it at every finitialize, so a run is the same when replayed and on any number of ranks and
-threads.  The common drive (mn_syn) carries the mean; this process carries the fluctuation of each cell's own
-inputs around it.
+threads.  The common drive carries the mean; this process carries the fluctuation of each cell's own inputs
+around it.
 ENDCOMMENT
 
 NEURON {

@@ -59,8 +59,8 @@ def flag_table() -> list[tuple[str, list[tuple[str, str, dict[str, Any]]]]]:
             ("--neuromodulation", "units.neuromodulation",
              {**number, "help": "PIC strength (0: none; 1: the decerebrate cat's; default: the profile's)"}),
             ("--synaptic-noise-us", "units.synaptic_noise_uS",
-             {**number, "help": "each cell's own synaptic noise, standard deviation (uS; 0: none; the fixed step "
-                                "only; default: the profile's)"}),
+             {**number, "help": "each cell's own synaptic noise, its standard deviation at a synaptic drive of 1 "
+                                "uS (uS; 0: none; the fixed step and synaptic drives only; default: the profile's)"}),
             ("--noise-seed", "units.noise_seed", {"type": int, "help": "seed of the cells' synaptic noise"}),
             ("--muscle", "units.muscle", {"choices": MUSCLE_MODELS, "help": "three Kim mechanisms, fused "
                                           "(KimUnit) or fused_fixed (KimUnitFixed: the fixed step only)"}),

@@ -68,9 +68,10 @@ class PoolDefinition:
     ``size_spacing``: how sizes spread over the ranks (``size_index``).  ``p0_N``: every unit's P0 (N, recruitment
     order) instead of the exponential spread.
     ``synaptic_noise_uS``: each motoneuron's own synaptic input, a conductance (reversal 0 mV) fluctuating
-    around the common drive with this standard deviation (uS; 0: none) and correlation time
-    ``synaptic_noise_tau_ms`` (ms), independent between cells, drawn from ``noise_seed`` (mod/MnNoise.mod; the
-    fixed step only): what makes discharges irregular as recorded ones are.
+    around the common synaptic drive g with standard deviation ``synaptic_noise_uS`` sqrt(g / 1 uS) (uS; 0: none)
+    and correlation time ``synaptic_noise_tau_ms`` (ms), independent between cells, drawn from ``noise_seed``
+    (mod/MnNoise.mod; the fixed step and the synaptic drive only): what makes discharges irregular as recorded ones
+    are.
     ``motoneuron_channels``: "fused" (mn_soma + mn_pic, tabulated rates), "fused_fixed" (mn_soma_fixed +
     mn_pic_fixed: the same, cheaper, the fixed step only) or "separate" (one mechanism per channel, the reference);
     see ``motoneuron.CHANNELS``."""

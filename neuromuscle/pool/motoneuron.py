@@ -309,6 +309,17 @@ def membrane_area_um2(sections: Iterable[Any]) -> float:
     return float(sum(h.area(seg.x, sec=seg.sec) for sec in sections for seg in sec))
 
 
+def held_steps(times_ms: Any, values: np.ndarray) -> tuple[Any, np.ndarray]:
+    """The knots (a hoc Vector of times, ms, and the values) of a continuous Vector.play that holds each of
+    ``values`` from its time in ``times_ms`` to the next: two knots at every step (CoreNEURON plays no events into
+    mechanism instances)."""
+    from neuron import h
+
+    t = np.asarray(times_ms, float)
+    v = np.asarray(values, float)
+    return h.Vector(np.repeat(t, 2)[1:]), (np.repeat(v, 2)[:-1] if v.size == t.size else v)
+
+
 def play_synaptic_conductance(sections: Sequence[Any], times_ms: Any, conductance_uS: Any,
                               events: bool = True, fused: Iterable[str] | None = None) -> list[Any]:
     """Excitatory synaptic conductance on a whole cell, reversal SYNAPTIC_REVERSAL_MV: ``conductance_uS`` (uS,
@@ -324,10 +335,8 @@ def play_synaptic_conductance(sections: Sequence[Any], times_ms: Any, conductanc
     density = 100.0 / membrane_area_um2(sections)   # S/cm2 per uS of the cell's total: 1e-6 S / (A um2 * 1e-8)
     values = np.asarray(conductance_uS, float) * density
     kept = [times_ms]   # a play whose time Vector is freed stops: the caller need not keep it
-    if not events:  # each value held until the next time: two knots at every step
-        t = np.asarray(times_ms, float)
-        times_ms = h.Vector(np.repeat(t, 2)[1:])
-        values = np.repeat(values, 2)[:-1] if values.size == t.size else values
+    if not events:
+        times_ms, values = held_steps(times_ms, values)
         kept.append(times_ms)
     carriers = tuple(fused or ())
     for sec in sections:

@@ -45,7 +45,8 @@ from ..sim.simulator import ENGINES
 from ..validate import check_spike_times, finite_number, nonnegative_number, positive_number, seed_value
 from .definition import FUSED_MUSCLE_MODELS, PoolDefinition, UnitSpec
 from .cells import CellFactory, MotoneuronCell, reduced_cells
-from .motoneuron import COMMON_SYNAPTIC_MECHANISMS, FUSED_CHANNELS, Motoneuron, clear_synaptic_conductance
+from .motoneuron import (COMMON_SYNAPTIC_MECHANISMS, FUSED_CHANNELS, Motoneuron, clear_synaptic_conductance,
+                         held_steps)
 from .recording import PoolUnit, gather_recordings
 from .result import PoolResult
 
@@ -277,8 +278,7 @@ class Pool:
         sigma = float(self.definition.synaptic_noise_uS) * np.sqrt(steps)
         times = tv
         if not events:
-            times = h.Vector(np.repeat(np.asarray(tv, float), 2)[1:])
-            sigma = np.repeat(sigma, 2)[:-1]
+            times, sigma = held_steps(tv, sigma)
             self._synaptic_plays.append(times)
         for noise in self._noise:
             vec = h.Vector(sigma)
@@ -436,7 +436,7 @@ class Pool:
         if self._noise and sim.method != "fixed":
             raise InputError(f"pool {self.definition.name!r}: synaptic noise (synaptic_noise_uS = "
                              f"{self.definition.synaptic_noise_uS:g} uS) needs the fixed step; the variable step "
-                             "cannot integrate a noise drawn once a step")
+                             "cannot integrate a noise drawn at fixed intervals")
         if self._noise and self._drive != "synaptic":
             raise InputError(f"pool {self.definition.name!r}: synaptic noise (synaptic_noise_uS = "
                              f"{self.definition.synaptic_noise_uS:g} uS) rides on the common synaptic drive "

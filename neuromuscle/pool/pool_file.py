@@ -418,8 +418,8 @@ def pool_setup(doc: Mapping[str, Any], source: str, flagged: Mapping[str, str] |
     definition = _definition(f)
     if definition.synaptic_noise_uS > 0.0 and method != "fixed":
         raise InputError(f"{f.where('run.method')} = {method!r}: the motoneurons' synaptic noise (units."
-                         f"synaptic_noise_uS = {definition.synaptic_noise_uS:g} uS) is drawn once a fixed step; "
-                         "set units.synaptic_noise_uS = 0 for CVODE")
+                         f"synaptic_noise_uS = {definition.synaptic_noise_uS:g} uS) is drawn at fixed intervals of the "
+                         "fixed step; set units.synaptic_noise_uS = 0 for CVODE")
     if definition.synaptic_noise_uS > 0.0 and f.raw("drive.kind") in ("current", "poisson"):
         raise InputError(f"{f.where('units.synaptic_noise_uS')} = {definition.synaptic_noise_uS:g} uS rides on the "
                          f"common synaptic drive (drive.kind ramp, rise or synaptic), not on {f.raw('drive.kind')!r}")

@@ -164,7 +164,7 @@ def run_pool(cfg: PoolRun, nhost: int = 1) -> tuple[Any, dict[str, Any]]:
                                    "synaptic_noise_uS": cfg.synaptic_noise_uS})
     if cfg.synaptic_noise_uS > 0.0 and (cfg.method != "fixed" or cfg.drive != "synaptic"):
         raise InputError("--synaptic-noise-us needs --method fixed and --drive synaptic (the noise rides on the common "
-                         "synaptic drive and is drawn once a fixed step)")
+                         "synaptic drive and is drawn at fixed intervals of the fixed step)")
     sim = Simulator(method=cfg.method, dt_ms=cfg.dt_ms, atol=cfg.atol, v_init_mV=-70.0, max_wall_s=None,
                     local_dt=cfg.local_dt, nthread=cfg.nthread, label=f"pool of {cfg.n_units} units",
                     engine=cfg.engine, cell_permute=cfg.cell_permute, secondorder=cfg.secondorder)
