@@ -42,7 +42,7 @@ def test_a_fast_early_pool_fails_rates_and_thresholds():
 def test_the_plateau_isi_cv_of_each_side():
     rng = np.random.default_rng(1)
     rec = [np.cumsum(rng.gamma(25.0, 50.0 / 25.0, 380)) + 500.0 for _ in range(6)]   # CV 0.2 about 20 Hz
-    c = compare_discharges(_trial(rec), _trains(np.full(6, 20.0), np.linspace(100.0, 600.0, 6)), T, FORCE)
+    c = compare_discharges(_trial(rec), _trains(np.linspace(21.0, 19.0, 6), np.linspace(100.0, 600.0, 6)), T, FORCE)
     recorded, model = c.summary()["recorded"]["isi_cv_p5_p50_p95"], c.summary()["model"]["isi_cv_p5_p50_p95"]
     assert np.all(np.isfinite(c.recorded.isi_cv)) and abs(recorded[1] - 0.2) < 0.03
     assert model[2] < 1e-9
