@@ -106,7 +106,7 @@ SIZE_RANGE: dict[str, tuple[float, float]] = {
 HUMAN_NEUROMODULATION = 0.6
 #: Each cell's own synaptic noise (uS at a drive of 1 uS; ``PoolDefinition.synaptic_noise_uS``) with which the
 #: human profile's cells, at steady drives of 0.6-1.0 uS, vary their interspike intervals as the decomposed human
-#: units do (CV 0.11-0.34, median near the recorded 0.165).  No profile sets it: with it the same cells are
+#: units do (CV 0.12-0.33, median near the recorded 0.165).  No profile sets it: with it the same cells are
 #: recruited by the fluctuations at low rates (docs/guide/pools.md, "Synaptic noise").
 IRREGULAR_NOISE_US = 0.05
 

@@ -99,7 +99,7 @@ def test_the_noise_follows_the_square_root_of_the_drive(ct09):
 
 
 def test_human_cells_with_noise_discharge_as_irregularly_as_human_units():
-    """Twelve cells of the human TA pool with IRREGULAR_NOISE_US at a steady drive of 0.6 uS (rates 17-21 Hz):
+    """Twelve cells of the human TA pool with IRREGULAR_NOISE_US at a steady drive of 0.6 uS (rates 16-21 Hz):
     every cell's interspike intervals vary within the recorded 5th-95th percentiles of the human units' (0.11-0.42),
     their median near the recorded median; without noise (every profile's setting) the discharge is nearly periodic
     (CV < 0.05)."""
