@@ -28,6 +28,16 @@ def _numbers(kind: type) -> Any:
     return parse
 
 
+def _setting(text: str) -> dict[str, float]:
+    """One ``--set NAME=VALUE``: a reduced cell's parameter and its number (``motoneuron.parse_settings``)."""
+    from ..pool.motoneuron import parse_settings
+
+    try:
+        return parse_settings([text])
+    except NeuromuscleError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 def flag_table() -> list[tuple[str, list[tuple[str, str, dict[str, Any]]]]]:
     """The flags by group: (group title, [(flag, the definition file's field it sets, argparse options)])."""
     from ..pool.definition import MUSCLE_MODELS
@@ -62,6 +72,9 @@ def flag_table() -> list[tuple[str, list[tuple[str, str, dict[str, Any]]]]]:
              {**number, "help": "each cell's own synaptic noise, its standard deviation at a synaptic drive of 1 "
                                 "uS (uS; 0: none; the fixed step and synaptic drives only; default: the profile's)"}),
             ("--noise-seed", "units.noise_seed", {"type": int, "help": "seed of the cells' synaptic noise"}),
+            ("--set", "units.set", {"action": "append", "type": _setting, "metavar": "NAME=VALUE", "help": (
+                "a reduced cell's parameter replaced in every cell, over the profile's (repeatable; e.g. "
+                "g_km_S_per_cm2=0, cal_vhalf_mV=-52)")}),
             ("--muscle", "units.muscle", {"choices": MUSCLE_MODELS, "help": "three Kim mechanisms, fused "
                                           "(KimUnit) or fused_fixed (KimUnitFixed: the fixed step only)"}),
             ("--channels", "units.channels", {"choices": CHANNELS, "help": "motoneuron channel mechanisms"})]),
@@ -118,6 +131,8 @@ def flag_document(args: argparse.Namespace) -> tuple[dict[str, Any], dict[str, s
         value = getattr(args, flag[2:].replace("-", "_"), None)
         if value is None:
             continue
+        if name == "units.set":          # one {name: value} a flag, in the order given
+            value = {k: v for item in value for k, v in item.items()}
         section, _, key = name.partition(".")
         if key:
             doc.setdefault(section, {})[key] = value
@@ -187,6 +202,7 @@ def _run(args: argparse.Namespace, rank: int, nhost: int) -> int:
                "sim_s": round(report["sim_s"], 2), "recorded": sorted(result.recordings),
                "median_rates_p5_p50_p95_hz": report["median_rates_p5_p50_p95_hz"],
                "medians_inside_human_range": report["medians_inside_human_range"],
+               "delta_f": report["delta_f"], "isi_cv_p5_p50_p95": report["isi_cv_p5_p50_p95"],
                "files": [str(p) for p in paths]}
     if "afferents" in report:
         summary["afferents"] = report["afferents"]

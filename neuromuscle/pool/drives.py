@@ -71,6 +71,27 @@ class Drive:
         """The last time (ms) the drive is defined at (0 for Poisson, which runs to the end)."""
         return self.times_ms[-1] if self.times_ms else 0.0
 
+    def held_at_peak_ms(self) -> tuple[float, float] | None:
+        """The longest stretch (ms) over which a synaptic or current drive stays at its largest value (the plateau
+        of a recruitment ramp), None when it is never held there (a rise, a Poisson drive)."""
+        if self.kind == "poisson":
+            return None
+        t, v = np.asarray(self.times_ms), np.asarray(self.values)
+        at_peak = v == v.max()
+        best = None
+        for i in range(t.size - 1):
+            if at_peak[i] and at_peak[i + 1] and (best is None or t[i + 1] - t[i] > best[1] - best[0]):
+                best = (float(t[i]), float(t[i + 1]))
+        return best
+
+    def falls_back(self) -> bool:
+        """Whether a synaptic or current drive ends at half its largest value or less, having risen above its start
+        (so its units are recruited and then derecruited, as Delta F needs)."""
+        if self.kind == "poisson":
+            return False
+        v = np.asarray(self.values, float)
+        return bool(v.max() > v[0] and v[-1] - v.min() <= 0.5 * (v.max() - v.min()))
+
     def apply(self, pool: Any) -> None:
         """Give this drive to ``pool`` (a Pool without a drive)."""
         if self.kind == "poisson":

@@ -15,6 +15,8 @@
     synaptic_noise_uS = 0.0            # each cell's own synaptic noise (uS, its standard deviation at a drive
                                        # of 1 uS; the fixed step and synaptic drives only); default: the profile's
     noise_seed = 0                     # seed of that noise
+    set = {g_km_S_per_cm2 = 0.0}       # reduced cells' parameters replaced in every cell, over the profile's
+                                       # (motoneuron.MotoneuronParameters' fields; not the neuromodulation)
     muscle = "modules"                 # or "fused", "fused_fixed"
     channels = "fused"                 # or "fused_fixed", "separate"
     [drive]
@@ -72,7 +74,7 @@ from .cells import CellFactory, reconstructed_cells
 from .definition import MUSCLE_MODELS, PoolDefinition
 from .drives import Drive
 from .experiments import total_force_smallest_p0_N
-from .motoneuron import CHANNELS, PROFILES, TYPES, motoneuron_profile
+from .motoneuron import CHANNELS, PROFILES, TYPES, motoneuron_profile, parse_settings
 from .reflex import ReflexDefinition
 
 #: Every section of a definition file, its fields and their defaults (None: no default, optional).
@@ -80,7 +82,7 @@ FIELDS: dict[str, dict[str, Any]] = {
     "units": {"count": 20, "params": "CT09", "types": [0.7, 0.2, 0.1], "total_p0_N": 600.0, "smallest_p0_N": None,
               "p0_range": 100.0, "max_size": 1.0, "size_spacing": 1.0, "axon_length_mm": 900.0,
               "motoneurons": "human", "neuromodulation": None, "synaptic_noise_uS": None, "noise_seed": 0,
-              "muscle": "modules", "channels": "fused"},
+              "set": None, "muscle": "modules", "channels": "fused"},
     "drive": {"kind": "ramp", "peak_uS": 0.7, "peak_nA": 40.0, "times_ms": None, "values_uS": None,
               "values_nA": None, "rate_hz": 400.0, "weight_uS": 0.15, "seed": 0},
     "length": {"kind": "isometric", "mm": -8.0, "seed": 0, "centre_mm": -8.0, "low_mm": -16.0, "high_mm": 0.0,
@@ -266,10 +268,27 @@ def _definition(f: _Fields) -> PoolDefinition:
     if f.raw("units.synaptic_noise_uS") is not None:
         fields["synaptic_noise_uS"] = f.number("units.synaptic_noise_uS", lambda x: x >= 0, ">= 0")
     fields["noise_seed"] = f.integer("units.noise_seed", 0)
+    if f.raw("units.set") is not None:
+        fields["motoneuron_overrides"] = {**fields["motoneuron_overrides"], **_settings(f)}
     try:
         return PoolDefinition(n, muscle, smallest_p0_N=smallest, p0_range=p0_range, type_fractions=types, **fields)
     except InputError as exc:
         raise InputError(f"{f.source}: [units]: {exc}") from None
+
+
+def _settings(f: _Fields) -> dict[str, float]:
+    """``units.set``: a table of reduced-cell parameters and their numbers (``motoneuron.parse_settings``'
+    rules: known fields, numbers, not the neuromodulation, which has its own field)."""
+    table = f.raw("units.set")
+    if not isinstance(table, Mapping):
+        raise InputError(f"{f.where('units.set')} must be a table of motoneuron parameters and numbers, e.g. "
+                         f"{{g_km_S_per_cm2 = 0.0}}, got {table!r}")
+    if any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in table.values()):
+        raise InputError(f"{f.where('units.set')}: every value must be a number, got {dict(table)!r}")
+    try:
+        return parse_settings(f"{k}={v!r}" for k, v in table.items())
+    except InputError as exc:
+        raise InputError(f"{f.where('units.set')}: {exc}") from None
 
 
 def _drive(f: _Fields, duration_ms: float) -> Drive:
@@ -341,6 +360,9 @@ def _cells(f: _Fields) -> CellFactory | None:
         if f.raw("motoneuron.mechanisms") is not None:
             raise InputError(f"{f.where('motoneuron.mechanisms')} is given without motoneuron.swc")
         return None
+    if f.raw("units.set") is not None:
+        raise InputError(f"{f.where('units.set')} sets the reduced cells' parameters; reconstructed cells "
+                         "(motoneuron.swc) take theirs from [motoneuron.mechanisms]")
     mechanisms = f.raw("motoneuron.mechanisms") or {}
     if not isinstance(mechanisms, Mapping) or not all(
             isinstance(m, Mapping) and all(isinstance(v, Mapping) for v in m.values()) for m in mechanisms.values()):

@@ -16,11 +16,12 @@ The JSON report: n_units, ranks, duration_ms, dt_ms, method, secondorder, engine
 integration + gathering), s_per_unit_s (sim_s per simulated unit-second), spikes (motoneuron spikes, all units),
 mean_rate_hz (spikes per unit-second), max_rate_hz and min_rate_hz (the largest and smallest of the units' rates at
 the end of the run, each from its last three interspike intervals), recruited (how many units fired more than three
-spikes), peak_rss_mib (largest rank) and peak_rss_mib_per_rank, pool_force_peak_N, and ``out`` when a file was
-written. Drives: ``synaptic`` (a common synaptic conductance rising linearly to --synaptic-peak-us over the run:
-every unit recruited, rates within those of human motor units), ``ramp`` (a common current to --ramp-peak-na; at the
-default 40 nA the largest cells end near 190 Hz, at 20 nA within 20-40 Hz), ``poisson`` (independent Poisson
-excitation). Units: s, ms, MiB, N, uS, nA, Hz. """
+spikes), peak_rss_mib (largest rank) and peak_rss_mib_per_rank, pool_force_peak_N, the units' discharges
+(``discharge_summary``: median rates, paired-unit Delta F when the drive falls back, interspike-interval variation
+while it is held at its peak), and ``out`` when a file was written. Drives: ``synaptic`` (a common synaptic
+conductance rising linearly to --synaptic-peak-us over the run: every unit recruited, rates within those of human
+motor units), ``ramp`` (a common current to --ramp-peak-na; at the default 40 nA the largest cells end near 190 Hz,
+at 20 nA within 20-40 Hz), ``poisson`` (independent Poisson excitation). Units: s, ms, MiB, N, uS, nA, Hz. """
 
 from __future__ import annotations
 
@@ -239,7 +240,7 @@ def run_definition(definition: Any, drive: Any, sim: Any, duration_ms: float, nh
               "s_per_unit_s": result.wall_s / unit_s, "spikes": spikes, "mean_rate_hz": spikes / unit_s,
               "max_rate_hz": float(final.max()) if final.size else 0.0,
               "min_rate_hz": float(final.min()) if final.size else 0.0, "recruited": int(final.size),
-              **median_rates(result.spikes_ms),
+              **discharge_summary(result.spikes_ms, drive),
               "peak_rss_mib": max(rss), "peak_rss_mib_per_rank": rss,
               "pool_force_peak_N": float(result.pool_force_N.max())}
     if afferents is not None:
@@ -259,6 +260,27 @@ def median_rates(spikes_ms: Sequence[Any]) -> dict[str, Any]:
     m = rates.median_hz[np.isfinite(rates.median_hz)]
     return {"median_rates_p5_p50_p95_hz": [float(x) for x in np.percentile(m, [5, 50, 95])] if m.size else None,
             "medians_inside_human_range": inside_human_range(rates) if m.size else None}
+
+
+def discharge_summary(spikes_ms: Sequence[Any], drive: Any) -> dict[str, Any]:
+    """``median_rates``, and what a motor-unit physiologist reads next on a run with ``drive`` (a
+    pool.drives.Drive): the paired-unit Delta F (``discharge_stats.delta_f``: median, quartiles, test units,
+    pairs) when the drive falls back after rising (None otherwise), and the interspike-interval coefficients of
+    variation while it is held at its peak (``discharge_stats.isi_cv``: 5th, 50th and 95th percentiles over the
+    units; None when it is never held or no unit has enough intervals there)."""
+    import numpy as np
+
+    from .discharge_stats import delta_f, isi_cv
+
+    trains = [np.asarray(s, float) for s in spikes_ms]
+    out = median_rates(trains)
+    df = delta_f(trains).summary() if drive.falls_back() else None
+    out["delta_f"] = df if df is None or df["pairs"] else {**df, "median_hz": None}     # no pair: no value
+    held = drive.held_at_peak_ms()
+    cv = isi_cv(trains, held) if held is not None else np.array([])
+    cv = cv[np.isfinite(cv)]
+    out["isi_cv_p5_p50_p95"] = [float(x) for x in np.percentile(cv, [5, 50, 95])] if cv.size else None
+    return out
 
 
 def final_rates_hz(spikes_ms: Sequence[Any], intervals: int = 3) -> Any:

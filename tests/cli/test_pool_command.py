@@ -37,6 +37,9 @@ def test_the_plain_form_writes_hdf5_nwb_and_png(tmp_path, capsys):
     rates = 1000.0 / np.concatenate([np.diff(s) for s in r.spikes_ms if s.size > 1])
     assert 5.0 < np.median(rates) < 35.0
     assert summary["medians_inside_human_range"] == 1.0 and len(summary["median_rates_p5_p50_p95_hz"]) == 3
+    # Delta F needs test units recruited a second after their references, a coefficient of variation ten intervals
+    # on the hold: neither in half a second
+    assert summary["delta_f"]["pairs"] == 0 and summary["isi_cv_p5_p50_p95"] is None
     assert r.pool_force_N.argmax() < 0.85 * r.t_ms.size and r.pool_force_N[-1] < 0.5 * r.pool_force_N.max()
     prov = r.provenance
     assert prov["definition"]["drive"]["kind"] == "ramp" and prov["definition"]["units"]["count"] == 20
@@ -243,6 +246,28 @@ def test_the_noise_flags_reach_the_pool_and_its_provenance(tmp_path):
     assert (a.provenance["synaptic_noise_uS"], a.provenance["noise_seed"]) == (0.05, 4)
 
 
+def test_set_replaces_the_reduced_cells_parameters_over_the_profiles(tmp_path):
+    base = ["pool", "--units", "3", "--total-p0-n", "30", "--drive", "rise", "--peak-us", "0.8", "--duration-ms",
+            "400", "--quiet"]
+    path = tmp_path / "pool.toml"
+    path.write_text('[units]\nset = {g_km_S_per_cm2 = 0.0, cal_vhalf_mV = -52.0}\n')
+    assert main(base + ["--out", str(tmp_path / "human")]) == 0
+    assert main(base + ["--set", "g_km_S_per_cm2=0", "--set", "cal_vhalf_mV=-52", "--out", str(tmp_path / "a")]) == 0
+    assert main([base[0], str(path)] + base[1:] + ["--out", str(tmp_path / "b")]) == 0
+    human, a, b = (load_pool_result(tmp_path / x / "pool.h5") for x in ("human", "a", "b"))
+    assert a.provenance["motoneuron_overrides"] == {"g_km_S_per_cm2": 0.0, "g_ks_S_per_cm2": 0.03,
+                                                    "cal_vhalf_mV": -52.0}        # the profile's slow K kept
+    assert all(np.array_equal(x, y) for x, y in zip(a.spikes_ms, b.spikes_ms))      # flags = the file's table
+    assert not all(np.array_equal(x, y) for x, y in zip(a.spikes_ms, human.spikes_ms))
+
+
+def test_a_bad_setting_flag_is_refused_by_name(tmp_path, capsys):
+    with pytest.raises(SystemExit):
+        main(["pool", "--set", "gkm=0", "--out", str(tmp_path / "run")])
+    assert "argument --set: motoneuron setting 'gkm=0': no parameter 'gkm'" in capsys.readouterr().err
+    assert not (tmp_path / "run").exists()
+
+
 @pytest.mark.parametrize("text, message", [
     ('[units]\ncount = 0\n', "pool.toml: units.count must be an integer >= 1, got 0"),
     ('[units]\ncuont = 3\n', "pool.toml: [units] has no field 'cuont'"),
@@ -267,6 +292,12 @@ def test_the_noise_flags_reach_the_pool_and_its_provenance(tmp_path):
     ('[length]\nkind = "stretch"\n', "pool.toml: length.kind must be one of isometric, random, ramp"),
     ('[units]\nmax_size = -0.1\n', "pool.toml: units.max_size must be in [0, 1] (a size index), got -0.1"),
     ('[units]\nsize_spacing = 0\n', "pool.toml: units.size_spacing must be >= 1"),
+    ('[units]\nset = 3\n', "pool.toml: units.set must be a table of motoneuron parameters and numbers"),
+    ('[units]\nset = {g_km_S_per_cm2 = "x"}\n', "pool.toml: units.set: every value must be a number"),
+    ('[units]\nset = {gkm = 0}\n', "pool.toml: units.set: motoneuron setting 'gkm=0': no parameter 'gkm'"),
+    ('[units]\nset = {neuromodulation = 0}\n', "pool.toml: units.set: motoneuron setting 'neuromodulation=0'"),
+    ('[units]\nset = {g_km_S_per_cm2 = 0}\n[motoneuron]\nswc = "cell.swc"\n',
+     "pool.toml: units.set sets the reduced cells' parameters; reconstructed cells"),
 ])
 def test_bad_definitions_are_refused_naming_file_and_field_with_nothing_written(tmp_path, capsys, text, message):
     path = tmp_path / "pool.toml"

@@ -45,3 +45,15 @@ def test_a_drive_gives_the_pool_of_the_method_it_stands_for(ct09):
         via = pool.run(200.0)
     assert sum(s.size for s in direct.spikes_ms) > 2
     assert np.array_equal(direct.unit_force_N, via.unit_force_N)
+
+
+def test_the_phases_a_discharge_summary_reads():
+    ramp = Drive.recruitment_ramp(0.6, 2000.0)
+    assert ramp.held_at_peak_ms() == (1000.0, 1500.0) and ramp.falls_back()
+    rise = Drive.rise("synaptic", 0.6, 500.0)
+    assert rise.held_at_peak_ms() is None and not rise.falls_back()
+    two = Drive("current", (0, 100, 400, 500, 600, 700), (0, 5, 5, 2, 5, 5))      # the longer hold at the peak
+    assert two.held_at_peak_ms() == (100.0, 400.0) and not two.falls_back()
+    kept = Drive("synaptic", (0, 100, 200), (0, 0.6, 0.4))                          # stays above half its peak
+    assert not kept.falls_back() and kept.held_at_peak_ms() is None
+    assert Drive("poisson").held_at_peak_ms() is None and not Drive("poisson").falls_back()
