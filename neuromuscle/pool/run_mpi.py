@@ -262,10 +262,16 @@ def median_rates(spikes_ms: Sequence[Any]) -> dict[str, Any]:
             "medians_inside_human_range": inside_human_range(rates) if m.size else None}
 
 
+#: References per test unit in a run's Delta F: the ones recruited closest before it (all of them in a pool of up to
+#: 21 units); the cost then grows with the units, not with their square (about 10 ms a unit for a 20-s run).
+DELTA_F_REFERENCES = 20
+
+
 def discharge_summary(spikes_ms: Sequence[Any], drive: Any) -> dict[str, Any]:
     """``median_rates``, and what a motor-unit physiologist reads next on a run with ``drive`` (a
-    pool.drives.Drive): the paired-unit Delta F (``discharge_stats.delta_f``: median, quartiles, test units,
-    pairs) when the drive falls back after rising (None otherwise), and the interspike-interval coefficients of
+    pool.drives.Drive): the paired-unit Delta F (``discharge_stats.delta_f`` against up to DELTA_F_REFERENCES
+    references a test unit: median, quartiles, test units, pairs) when the drive falls back after rising (None
+    otherwise), and the interspike-interval coefficients of
     variation while it is held at its peak (``discharge_stats.isi_cv``: 5th, 50th and 95th percentiles over the
     units; None when it is never held or no unit has enough intervals there)."""
     import numpy as np
@@ -274,7 +280,7 @@ def discharge_summary(spikes_ms: Sequence[Any], drive: Any) -> dict[str, Any]:
 
     trains = [np.asarray(s, float) for s in spikes_ms]
     out = median_rates(trains)
-    df = delta_f(trains).summary() if drive.falls_back() else None
+    df = delta_f(trains, DELTA_F_REFERENCES).summary() if drive.falls_back() else None
     out["delta_f"] = df if df is None or df["pairs"] else {**df, "median_hz": None}     # no pair: no value
     held = drive.held_at_peak_ms()
     cv = isi_cv(trains, held) if held is not None else np.array([])

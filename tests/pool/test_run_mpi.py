@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from neuromuscle.pool.drives import Drive
-from neuromuscle.pool.run_mpi import discharge_summary
+from neuromuscle.pool.run_mpi import DELTA_F_REFERENCES, discharge_summary
 
 RAMP = Drive.recruitment_ramp(1.0, 20000.0)           # up over 10 s, held to 15 s, down by 20 s
 
@@ -49,3 +49,10 @@ def test_no_delta_f_where_the_drive_does_not_fall_back_and_no_cv_without_a_hold(
 def test_a_ramp_without_a_qualifying_pair_reports_no_value():
     s = discharge_summary([_train(0.3, 0.3)], RAMP)                   # one unit: nothing to pair it with
     assert s["delta_f"] == {"median_hz": None, "test_units": 0, "pairs": 0}
+
+
+def test_each_test_unit_is_paired_with_at_most_the_references_recruited_closest_before_it():
+    trains = [_train(on, on - 0.05) for on in np.linspace(0.05, 0.9, 80)]
+    s = discharge_summary(trains, RAMP)["delta_f"]
+    assert s["test_units"] > 60 and s["pairs"] <= DELTA_F_REFERENCES * s["test_units"]    # all pairs: about 2500
+    assert s["pairs"] > (DELTA_F_REFERENCES - 3) * (s["test_units"] - DELTA_F_REFERENCES)
