@@ -263,7 +263,7 @@ def median_rates(spikes_ms: Sequence[Any]) -> dict[str, Any]:
 
 
 #: References per test unit in a run's Delta F: the ones recruited closest before it (all of them in a pool of up to
-#: 21 units); the cost then grows with the units, not with their square (about 10 ms a unit for a 20-s run).
+#: 21 units); the cost then grows with the units, not with their square (10-20 ms a unit for a 20-s run).
 DELTA_F_REFERENCES = 20
 
 
@@ -271,9 +271,9 @@ def discharge_summary(spikes_ms: Sequence[Any], drive: Any) -> dict[str, Any]:
     """``median_rates``, and what a motor-unit physiologist reads next on a run with ``drive`` (a
     pool.drives.Drive): the paired-unit Delta F (``discharge_stats.delta_f`` against up to DELTA_F_REFERENCES
     references a test unit: median, quartiles, test units, pairs) when the drive falls back after rising (None
-    otherwise), and the interspike-interval coefficients of
-    variation while it is held at its peak (``discharge_stats.isi_cv``: 5th, 50th and 95th percentiles over the
-    units; None when it is never held or no unit has enough intervals there)."""
+    otherwise), and the interspike-interval coefficients of variation while it is held at its peak
+    (``discharge_stats.isi_cv``: 5th, 50th and 95th percentiles over the units; None when it is never held or no
+    unit has enough intervals there)."""
     import numpy as np
 
     from .discharge_stats import delta_f, isi_cv
