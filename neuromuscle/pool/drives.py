@@ -85,8 +85,9 @@ class Drive:
         return best
 
     def falls_back(self) -> bool:
-        """Whether a synaptic or current drive ends at half its largest value or less, having risen above its start
-        (so its units are recruited and then derecruited, as Delta F needs)."""
+        """Whether a synaptic or current drive ends at half its largest value or less (uS or nA, above its
+        smallest), having risen above its start (so its units are recruited and then derecruited, as Delta F
+        needs)."""
         if self.kind == "poisson":
             return False
         v = np.asarray(self.values, float)

@@ -270,10 +270,10 @@ DELTA_F_REFERENCES = 20
 def discharge_summary(spikes_ms: Sequence[Any], drive: Any) -> dict[str, Any]:
     """``median_rates``, and what a motor-unit physiologist reads next on a run with ``drive`` (a
     pool.drives.Drive): the paired-unit Delta F (``discharge_stats.delta_f`` against up to DELTA_F_REFERENCES
-    references a test unit: median, quartiles, test units, pairs) when the drive falls back after rising (None
-    otherwise), and the interspike-interval coefficients of variation while it is held at its peak
+    references a test unit: median and quartiles in Hz, test units, pairs) when the drive falls back after rising
+    (None otherwise), and the interspike-interval coefficients of variation (1) while it is held at its peak
     (``discharge_stats.isi_cv``: 5th, 50th and 95th percentiles over the units; None when it is never held or no
-    unit has enough intervals there)."""
+    unit has enough intervals there).  ``spikes_ms``: each unit's discharge times (ms)."""
     import numpy as np
 
     from .discharge_stats import delta_f, isi_cv
