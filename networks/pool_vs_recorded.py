@@ -19,11 +19,13 @@ Caillet et al. 2022, 2023; read by path, never copied):
    median and peak rates, recruitment thresholds (KS distance), onion skin, paired-unit Delta F;
 4. the same for the model units a decomposition of the recording would identify
    (``neuromuscle.pool.identification``: of the muscle's units, as many as the recording has, those of highest
-   surface action-potential energy, from their P0 and depths drawn from ``--seed``), beside the whole pool.
+   weight in the recording, from their P0, depths drawn from ``--seed`` and time discharging), beside the whole
+   pool.
 The units are not matched one to one.
 
 Run: python networks/pool_vs_recorded.py --out DIR [--file F.mat ...] [--units N] [--corrections K] [--full]
-                                          [--seed S] [--depth-attenuation A] [--motoneurons default|human]
+                                          [--seed S] [--depth-attenuation A] [--activity-exponent E]
+                                          [--motoneurons default|human]
                                           [--neuromodulation NM] [--noise-uS S]
                                           [--set NAME=VALUE ...] [--scale NAME=FACTOR ...]
                                           [--p0-spread published|recording]
@@ -51,7 +53,7 @@ from neuromuscle.pool.discharges import RecordedDischarges, load_caillet
 from neuromuscle.pool.follow_force import (FIT_SEEDS, HUMAN_MUSCLES, Calibration, P0Spread, calibrate,
                                           fit_p0_spread_to_recording, run_drive)
 from neuromuscle.pool.follow_force import follow as follow_force
-from neuromuscle.pool.identification import DEFAULT_SEED, DEPTH_ATTENUATION, IdentificationModel
+from neuromuscle.pool.identification import ACTIVITY_EXPONENT, DEFAULT_SEED, DEPTH_ATTENUATION, IdentificationModel
 from neuromuscle.pool.motoneuron import PROFILES, motoneuron_parameters, motoneuron_profile, parse_settings
 from neuromuscle.pool.recorded_comparison import Comparison, compare_discharges
 from neuromuscle.reports.figures import label_axes, legend, new_figure, save_figure, set_title
@@ -102,7 +104,7 @@ def follow(path: Path, cal: Calibration, spread: P0Spread, corrections: int, dt_
 
 def unit_table(cmp: Comparison, p0_N: np.ndarray) -> dict[str, list]:
     """Every model unit's P0 (N), whether it is active (in the comparison), its threshold (% MVC) and median rate
-    (Hz) (None when inactive), and its identified copies."""
+    (Hz) (None when inactive), its time discharging (s, first to last discharge) and its identified copies."""
     n = len(p0_N)
     thr: list[float | None] = [None] * n
     med: list[float | None] = [None] * n
@@ -113,8 +115,9 @@ def unit_table(cmp: Comparison, p0_N: np.ndarray) -> dict[str, list]:
     active = [False] * n
     for u in cmp.model_units:
         active[u] = True
+    discharging = [0.0] * n if cmp.identified is None else [float(x) for x in cmp.identified.active_s]
     return {"p0_N": [float(x) for x in p0_N], "active": active, "threshold_percent_mvc": thr, "median_hz": med,
-            "identified_copies": found}
+            "discharging_s": discharging, "identified_copies": found}
 
 
 def figure(out: Path, name: str, run: dict[str, Any]) -> None:
@@ -233,6 +236,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--dt-ms", type=float, default=0.025, help="fixed step (ms)")
     ap.add_argument("--full", action="store_true", help="every file, 80 units")
     ap.add_argument("--seed", type=int, default=DEFAULT_SEED, help="seed of the identification's unit depths")
+    ap.add_argument("--activity-exponent", type=float, default=ACTIVITY_EXPONENT,
+                    help="exponent of a unit's time discharging in its weight in the recording (identification; "
+                         "0: size and depth alone)")
     ap.add_argument("--depth-attenuation", type=float, default=DEPTH_ATTENUATION,
                     help="ln of a unit's surface-energy ratio, muscle surface / deep face (identification)")
     ap.add_argument("--motoneurons", choices=tuple(PROFILES), default="default",
@@ -287,7 +293,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     out = prepare_out_dir(a.out, a.overwrite, [*SUMMARY_FILES, *(f"{s}{x}" for s in stems
                                                                    for x in (".png", ".json", "_pool.h5"))])
     n = a.units or (80 if a.full else 40)
-    ident_model = IdentificationModel(depth_attenuation=a.depth_attenuation, seed=a.seed)
+    ident_model = IdentificationModel(depth_attenuation=a.depth_attenuation, seed=a.seed,
+                                      activity_exponent=a.activity_exponent)
     t0 = time.time()
     calibrations: dict[str, tuple[Calibration, P0Spread]] = {}
     rows = []
@@ -311,7 +318,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             rec = load_caillet(path)
             peak = float(np.nanmax(rec.force_percent_mvc))
             spread, distance = fit_p0_spread_to_recording(cal, HUMAN_MUSCLES[m], rec.thresholds_percent_mvc(), peak,
-                                                          model=ident_model)
+                                                          model=ident_model,
+                                                          recorded_force_percent=rec.force_percent_mvc,
+                                                          force_sample_s=1.0 / rec.fsamp_hz)
             fitted_to = "recorded thresholds"
             print(f"{path.name}: P0 range {spread.range_ratio:.3g}, exponent {spread.exponent:.3g}, MVC drive "
                   f"{spread.mvc_drive_uS:.3g} uS, identified thresholds KS {distance:.2f} from the recorded "

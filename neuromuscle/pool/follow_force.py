@@ -238,15 +238,28 @@ class Calibration:
 FIT_SEEDS = range(100, 110)
 
 
+def time_above_s(force_percent: np.ndarray, sample_s: float, levels_percent: np.ndarray) -> np.ndarray:
+    """How long (s) a force sampled every ``sample_s`` (s) is at or above each of ``levels_percent`` (same unit
+    as the force; 0 for a NaN level)."""
+    f = np.sort(np.asarray(force_percent, float).ravel())
+    lv = np.asarray(levels_percent, float)
+    above = f.size - np.searchsorted(f, np.where(np.isfinite(lv), lv, np.inf), side="left")
+    return above * float(sample_s)
+
+
 def fit_p0_spread_to_recording(cal: Calibration, muscle: HumanMuscle, recorded_thresholds_percent: np.ndarray,
                                peak_percent: float, *, model: IdentificationModel | None = None,
-                               seeds: Sequence[int] = FIT_SEEDS) -> tuple[P0Spread, float]:
+                               seeds: Sequence[int] = FIT_SEEDS, recorded_force_percent: np.ndarray | None = None,
+                               force_sample_s: float | None = None) -> tuple[P0Spread, float]:
     """The P0 spread fitted to one recording: the one whose units a decomposition would identify
     (``identification.identified_ks``: the recording's count of the active units of highest surface energy, depths
     from ``seeds``, ``model``'s parameters) have the recruitment thresholds (% MVC, on the calibration ramp)
     closest to the recorded ones.  Active: the units recruited at or below ``peak_percent`` (% MVC, the largest
     force the recording reaches): a pool that follows the force recruits every unit whose threshold a fluctuation
-    of the plateau reaches, and with the PIC's hysteresis those units go on firing on the plateau.  Range ratios
+    of the plateau reaches, and with the PIC's hysteresis those units go on firing on the plateau.  Given the
+    recorded force (``recorded_force_percent``, % MVC, sampled every ``force_sample_s`` s), each unit's time
+    discharging in the identification (``identify``'s ``active_s``) is the time that force stays at or above the
+    unit's threshold; without it every active unit counts alike.  Range ratios
     1.5-100 (unit forces span about 100-fold in human muscles: Enoka & Fuglevand 2001) and exponents 0.25-30,
     log-spaced.  The distance is a KS distance of a few tens of units, noisy
     from one spread to the next, so the spread chosen is the one whose distance averaged with its grid neighbours
@@ -260,14 +273,21 @@ def fit_p0_spread_to_recording(cal: Calibration, muscle: HumanMuscle, recorded_t
     finite_number("peak_percent", peak_percent)
     m = model or IdentificationModel()
     copies = copies_per_unit(cal.rank.size, muscle.motor_units)
+    force = None
+    if recorded_force_percent is not None:
+        force = np.asarray(recorded_force_percent, float).ravel()
+        if not force.size or not np.all(np.isfinite(force)):
+            raise InputError("fit_p0_spread_to_recording: recorded_force_percent must be finite numbers (% MVC)")
+        positive_number("force_sample_s", force_sample_s)
 
     def distance(spread: P0Spread) -> float:
         thr = spread.thresholds_percent
         active = thr <= peak_percent
         if copies[active].sum() < rec.size:       # too few active units for the recording's count
             return np.inf
+        active_s = None if force is None else time_above_s(force, float(force_sample_s), thr)
         return identified_ks(spread.p0_N(cal.rank), active, thr, rec, motor_units=muscle.motor_units, model=m,
-                             seeds=seeds)
+                             seeds=seeds, active_s=active_s)
 
     ratios, powers = np.geomspace(1.5, 100.0, 37), np.geomspace(0.25, 30.0, 23)
     grid = [[cal.spread_for(float(r), float(q), muscle) for q in powers] for r in ratios]

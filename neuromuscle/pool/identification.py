@@ -18,6 +18,12 @@ early-recruited, smaller ones (Caillet et al. 2023).  The model:
   falls steeply with depth (Fuglevand, Winter, Patla & Stashuk 1992; Roeleveld et al. 1997; Farina & Merletti
   2001): the energy is
   multiplied by exp(-``depth_attenuation`` depth);
+- **activity**: a source separation estimates each unit's separation filter from its discharges over the
+  whole recording (Holobar & Zazula 2007; Negro et al. 2016), so a unit that discharges for longer weighs more in
+  the recording's statistics and is found more reliably.  The model takes a unit's weight as its action
+  potential's energy times its time discharging in the trial (s) ** ``activity_exponent`` (1: the energy of all
+  its action potentials, at a rate that varies less between units than the time they discharge).  Units recruited
+  near a plateau's top, which discharge on the plateau alone, are then found less often than their size says;
 - **count**: the decomposition identifies the ``count`` active units of highest energy, ``count`` being the number
   of units the recording itself identified (a count, not which units nor their thresholds).
 
@@ -55,6 +61,8 @@ SIZE_EXPONENT = 2.0
 #: 256-electrode grid, 84 units) with the 40-unit TA pool: the smallest mean KS distance of the thresholds over
 #: 20 seeds (0.124; 0.13-0.16 from 1.5 to 4, 0.60 at 0: the estimate is loosely determined above 1.5).
 DEPTH_ATTENUATION = 1.75
+#: Exponent of a unit's time discharging in the trial in its share of the recording's energy (1, module docstring).
+ACTIVITY_EXPONENT = 1.0
 #: Seed of the units' depths.
 DEFAULT_SEED = 0
 #: The depth attenuations ``estimate_depth_attenuation`` tries by default (1).
@@ -64,19 +72,24 @@ DEPTH_GRID = np.arange(0.0, 12.001, 0.25)
 @dataclass(frozen=True)
 class IdentificationModel:
     """The identification model's parameters (module docstring): ``depth_attenuation`` (1, >= 0),
-    ``size_exponent`` (1, >= 0) and the ``seed`` of the depths."""
+    ``size_exponent`` (1, >= 0), ``activity_exponent`` (1, >= 0; 0: the time discharging plays no part) and the
+    ``seed`` of the depths."""
 
     depth_attenuation: float = DEPTH_ATTENUATION
     size_exponent: float = SIZE_EXPONENT
     seed: int = DEFAULT_SEED
-    source: str = field(default="energy ~ P0 ** size_exponent * exp(-depth_attenuation * depth); "
-                                "depth_attenuation estimated on S1_30_256", compare=False)
+    activity_exponent: float = ACTIVITY_EXPONENT
+    source: str = field(default="energy ~ P0 ** size_exponent * exp(-depth_attenuation * depth) * "
+                                "(time discharging) ** activity_exponent; depth_attenuation estimated on S1_30_256",
+                        compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "depth_attenuation", nonnegative_number("depth_attenuation",
                                                                          self.depth_attenuation))
         object.__setattr__(self, "size_exponent", nonnegative_number("size_exponent", self.size_exponent))
         object.__setattr__(self, "seed", seed_value(self.seed))
+        object.__setattr__(self, "activity_exponent", nonnegative_number("activity_exponent",
+                                                                         self.activity_exponent))
 
     def provenance(self) -> dict[str, Any]:
         """JSON-ready parameters and seed."""
@@ -131,12 +144,28 @@ class Identification:
                 "units": [int(u) for u in self.units], "weights": [int(w) for w in self.weights]}
 
 
+def _discharging(active_s: Sequence[float] | np.ndarray | None, n: int) -> np.ndarray:
+    """Each unit's time discharging (s, finite, >= 0; ones when None, every unit alike)."""
+    if active_s is None:
+        return np.ones(n)
+    try:
+        a = np.asarray(active_s, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("active_s must be a 1-D array of times discharging (s)") from None
+    if a.shape != (n,) or not np.all(np.isfinite(a)) or np.any(a < 0.0):
+        raise InputError(f"active_s must hold one finite time discharging >= 0 (s) for each of the {n} units, "
+                         f"got shape {a.shape}")
+    return a
+
+
 def identify(p0_N: Sequence[float] | np.ndarray, active: Sequence[bool] | np.ndarray, count: int, *,
-             motor_units: int, model: IdentificationModel | None = None) -> Identification:
-    """The ``count`` muscle units of highest surface energy among the copies of the ``active`` model units
-    (module docstring).  ``p0_N``: every model unit's P0 (N, > 0); ``active``: which of them fire enough to be
-    found; ``motor_units``: the muscle's number of motor units.  InputError when the active units stand for fewer
-    than ``count`` muscle units."""
+             motor_units: int, model: IdentificationModel | None = None,
+             active_s: Sequence[float] | np.ndarray | None = None) -> Identification:
+    """The ``count`` muscle units of highest energy in the recording among the copies of the ``active`` model
+    units (module docstring).  ``p0_N``: every model unit's P0 (N, > 0); ``active``: which of them fire enough to
+    be found; ``active_s``: each unit's time discharging in the trial (s; None: every active unit alike);
+    ``motor_units``: the muscle's number of motor units.  InputError when the active units stand for fewer than
+    ``count`` muscle units."""
     m = model or IdentificationModel()
     try:
         p0 = np.asarray(p0_N, dtype=float)
@@ -150,6 +179,7 @@ def identify(p0_N: Sequence[float] | np.ndarray, active: Sequence[bool] | np.nda
                          f"{act.shape}")
     if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
         raise InputError(f"count (units the recording identified) must be a positive integer, got {count!r}")
+    time_s = _discharging(active_s, p0.size)
     copies = copies_per_unit(p0.size, motor_units)
     owner = np.repeat(np.arange(p0.size), copies)
     depth = np.random.default_rng(m.seed).random(owner.size)         # every copy's depth, active or not
@@ -159,6 +189,8 @@ def identify(p0_N: Sequence[float] | np.ndarray, active: Sequence[bool] | np.nda
                          f"stand for only {candidates.size} of the muscle's {motor_units}")
     energy = muap_energy(p0[owner[candidates]], depth[candidates], size_exponent=m.size_exponent,
                          depth_attenuation=m.depth_attenuation)
+    if m.activity_exponent:
+        energy = energy * time_s[owner[candidates]] ** m.activity_exponent
     chosen = candidates[np.argsort(-energy, kind="stable")[:count]]
     identified = np.bincount(owner[chosen], minlength=p0.size)
     return Identification(m, int(count), int(motor_units), copies, identified)
@@ -166,11 +198,12 @@ def identify(p0_N: Sequence[float] | np.ndarray, active: Sequence[bool] | np.nda
 
 def identified_ks(p0_N: np.ndarray, active: np.ndarray, thresholds_percent: np.ndarray,
                   recorded_thresholds_percent: np.ndarray, *, motor_units: int, model: IdentificationModel,
-                  seeds: Sequence[int] = range(20)) -> float:
+                  seeds: Sequence[int] = range(20), active_s: np.ndarray | None = None) -> float:
     """Mean over ``seeds`` (of the units' depths) of the Kolmogorov-Smirnov distance between the recruitment
     thresholds of the units a decomposition would identify (``thresholds_percent``, % MVC, one per model unit, NaN
     when inactive; each identified unit weighted by its copies) and the recorded ones, as many units identified as
-    were recorded; ``model`` gives every parameter but the random seed."""
+    were recorded; ``model`` gives every parameter but the random seed, ``active_s`` each unit's time discharging
+    (s, ``identify``)."""
     rec = np.asarray(recorded_thresholds_percent, float)
     rec = rec[np.isfinite(rec)]
     thr = np.asarray(thresholds_percent, float)
@@ -178,7 +211,8 @@ def identified_ks(p0_N: np.ndarray, active: np.ndarray, thresholds_percent: np.n
         raise InputError("identified_ks needs recorded thresholds and one model threshold per unit")
     d = []
     for s in seeds:
-        ident = identify(p0_N, active, rec.size, motor_units=motor_units, model=replace(model, seed=int(s)))
+        ident = identify(p0_N, active, rec.size, motor_units=motor_units, model=replace(model, seed=int(s)),
+                         active_s=active_s)
         d.append(ds.ks_distance(thr[ident.units], rec, ident.weights))
     return float(np.mean(d))
 
@@ -186,14 +220,17 @@ def identified_ks(p0_N: np.ndarray, active: np.ndarray, thresholds_percent: np.n
 def estimate_depth_attenuation(p0_N: np.ndarray, active: np.ndarray, thresholds_percent: np.ndarray,
                                recorded_thresholds_percent: np.ndarray, *, motor_units: int,
                                grid: Sequence[float] | None = None, seeds: Sequence[int] = range(20),
-                               size_exponent: float = SIZE_EXPONENT) -> tuple[float, np.ndarray]:
+                               size_exponent: float = SIZE_EXPONENT, activity_exponent: float = ACTIVITY_EXPONENT,
+                               active_s: np.ndarray | None = None) -> tuple[float, np.ndarray]:
     """The ``depth_attenuation`` of ``grid`` (default 0-12 by 0.25) whose identified units' recruitment
-    thresholds come closest to the recorded ones (``identified_ks`` over ``seeds``).  Returns (the value, the mean
-    distance at every grid value)."""
+    thresholds come closest to the recorded ones (``identified_ks`` over ``seeds``; ``active_s``: each unit's time
+    discharging, s).  Returns (the value, the mean distance at every grid value)."""
     values = DEPTH_GRID if grid is None else np.asarray(grid, float)
     cost = np.array([identified_ks(p0_N, active, thresholds_percent, recorded_thresholds_percent,
-                                   motor_units=motor_units, model=IdentificationModel(float(a), size_exponent),
-                                   seeds=seeds) for a in values])
+                                   motor_units=motor_units,
+                                   model=IdentificationModel(float(a), size_exponent,
+                                                             activity_exponent=activity_exponent),
+                                   seeds=seeds, active_s=active_s) for a in values])
     return float(values[int(np.argmin(cost))]), cost
 
 
@@ -210,6 +247,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         p0 = np.asarray(u["p0_N"], float)
         thr = np.asarray([np.nan if x is None else x for x in u["threshold_percent_mvc"]], float)
         active = np.asarray(u["active"], bool)
+        active_s = np.asarray([0.0 if x is None else x for x in u["discharging_s"]], float)
         recorded = np.asarray(row["recorded_thresholds_percent_mvc"], float)
         motor_units = int(row["identification"]["motor_units"])
     except (OSError, ValueError) as exc:
@@ -217,7 +255,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     except (KeyError, TypeError) as exc:
         raise InputError(f"{path}: field {exc} missing or malformed: give a per-file JSON written by "
                          "networks/pool_vs_recorded.py") from None
-    best, cost = estimate_depth_attenuation(p0, active, thr, recorded, motor_units=motor_units)
+    best, cost = estimate_depth_attenuation(p0, active, thr, recorded, motor_units=motor_units, active_s=active_s)
     out = {"file": row.get("file", str(path)), "depth_attenuation": best, "mean_ks": float(cost.min()),
            "mean_ks_by_value": {f"{a:g}": round(float(c), 4) for a, c in zip(DEPTH_GRID, cost)}}
     print(json.dumps(out, indent=1))

@@ -99,11 +99,13 @@ def _pct(values: Sequence[float]) -> list[float]:
 @dataclass(frozen=True)
 class IdentifiedSide:
     """The model units a decomposition would identify: which (``identification``) and their statistics
-    (``stats``, one entry per identified model unit, in ``identification.units`` order)."""
+    (``stats``, one entry per identified model unit, in ``identification.units`` order); every model unit's P0
+    (``p0_N``, N) and time discharging (``active_s``, s: its first to its last discharge)."""
 
     identification: Identification
     stats: SideStats
     p0_N: np.ndarray
+    active_s: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -158,7 +160,7 @@ class Comparison:
         total = np.zeros(self.model_units.size)
         for seed in seeds:
             found = identify(self.identified.p0_N, active, base.count, motor_units=base.motor_units,
-                             model=replace(base.model, seed=int(seed)))
+                             model=replace(base.model, seed=int(seed)), active_s=self.identified.active_s)
             k = np.array([where[int(u)] for u in found.units], int)
             total[k] += found.weights
             ks.append(ds.ks_distance(self.model.thresholds_percent[k], self.recorded.thresholds_percent,
@@ -186,6 +188,12 @@ class Comparison:
         return out
 
 
+def discharging_s(train_ms: Sequence[float] | np.ndarray) -> float:
+    """Time from a train's first to its last discharge (s; 0 with fewer than two)."""
+    t = np.asarray(train_ms, float)
+    return float(t.max() - t.min()) / 1000.0 if t.size > 1 else 0.0
+
+
 def compare_discharges(trial: DischargeTrial, model_trains_ms: Sequence[np.ndarray], model_t_ms: np.ndarray,
                        model_force_percent: np.ndarray, *, p0_N: Sequence[float] | np.ndarray | None = None,
                        motor_units: int | None = None,
@@ -193,8 +201,8 @@ def compare_discharges(trial: DischargeTrial, model_trains_ms: Sequence[np.ndarr
     """Statistics of the recorded trial and of the model trains (ms, the trial's clock) against their own forces
     (% MVC), on the recorded force's plateau (``discharge_stats.plateau_window_ms``).  With ``p0_N`` (every model
     unit's P0, N) and ``motor_units`` (the muscle's), also those of the model units a decomposition would identify
-    (``identification``'s parameters and seed, default ``IdentificationModel()``), as many muscle units as the
-    trial has."""
+    (``identification``'s parameters and seed, default ``IdentificationModel()``; each unit's time discharging,
+    its first to its last discharge, in ``identify``'s ``active_s``), as many muscle units as the trial has."""
     plateau = ds.plateau_window_ms(trial.force_t_ms, trial.force_percent_mvc)
     units = np.array([i for i, s in enumerate(model_trains_ms) if len(s) >= MIN_DISCHARGES], int)
     model = [np.asarray(model_trains_ms[i], float) for i in units]
@@ -205,9 +213,10 @@ def compare_discharges(trial: DischargeTrial, model_trains_ms: Sequence[np.ndarr
         active = np.zeros(len(model_trains_ms), bool)
         active[units] = True
         count = sum(1 for d in trial.discharges_ms if len(d))
-        found = identify(p0_N, active, count, motor_units=motor_units, model=identification)
+        active_s = np.array([discharging_s(s) for s in model_trains_ms])
+        found = identify(p0_N, active, count, motor_units=motor_units, model=identification, active_s=active_s)
         trains = [np.asarray(model_trains_ms[i], float) for i in found.units]
         ident = IdentifiedSide(found, side_stats(trains, model_t_ms, model_force_percent, plateau),
-                               np.asarray(p0_N, float))
+                               np.asarray(p0_N, float), active_s)
     return Comparison(side_stats(trial.discharges_ms, trial.force_t_ms, trial.force_percent_mvc, plateau),
                       side_stats(model, model_t_ms, model_force_percent, plateau), units, plateau, ident)

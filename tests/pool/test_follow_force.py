@@ -1,12 +1,13 @@
 """Following a recorded force: the P0 spread, the MVC at the upper limit of recruitment, the drive found by
 inverting the calibration ramp (on a made-up calibration whose answers are known), and one short pool run."""
 
+
 import numpy as np
 import pytest
 
 from neuromuscle.errors import InputError
 from neuromuscle.pool.follow_force import (HUMAN_MUSCLES, Calibration, calibrate, fit_p0_spread_to_recording,
-                                          p0_spread)
+                                          p0_spread, time_above_s)
 from neuromuscle.pool.identification import IdentificationModel, identify
 from neuromuscle.pool.result import PoolResult
 
@@ -70,6 +71,36 @@ def test_a_spread_fitted_to_a_recording_comes_back_near_the_one_that_made_it():
         fit_p0_spread_to_recording(cal, TA, [np.nan], 30.0)
     with pytest.raises(InputError, match="peak_percent"):
         fit_p0_spread_to_recording(cal, TA, recorded, float("nan"))
+
+
+def test_time_above_a_level():
+    force = np.array([0.0, 10.0, 20.0, 30.0, 30.0, 20.0, 10.0, 0.0])      # sampled every 0.5 s
+    assert time_above_s(force, 0.5, np.array([0.0, 15.0, 30.0, 31.0, np.nan])) == pytest.approx(
+        [4.0, 2.0, 1.0, 0.0, 0.0])
+
+
+def test_a_spread_fitted_with_the_times_discharging_comes_back_near_the_truth():
+    """Identified by size and time discharging (the time a trapezoid to 30 % MVC stays above each threshold):
+    the fit given the same force comes back within one grid step; a bad force is refused."""
+    cal = _made_up(TA.definition(20), n=20, top=3.0)
+    model = IdentificationModel(depth_attenuation=0.0)
+    ratios, powers = np.geomspace(1.5, 100.0, 37), np.geomspace(0.25, 30.0, 23)
+    force = np.interp(np.arange(0.0, 40.0, 0.01), [0.0, 6.0, 34.0, 40.0], [0.0, 30.0, 30.0, 0.0])
+    for i, j in ((20, 11), (10, 5), (30, 16)):
+        truth = cal.spread_for(ratios[i], powers[j], TA)
+        active = truth.thresholds_percent <= 30.0
+        found = identify(truth.p0_N(cal.rank), active, 60, motor_units=400, model=model,
+                         active_s=time_above_s(force, 0.01, truth.thresholds_percent))
+        recorded = np.repeat(truth.thresholds_percent[found.units], found.weights)
+        fit, d = fit_p0_spread_to_recording(cal, TA, recorded, 30.0, model=model, seeds=[0],
+                                            recorded_force_percent=force, force_sample_s=0.01)
+        near = np.argmin(abs(ratios - fit.range_ratio)), np.argmin(abs(powers - fit.exponent))
+        assert abs(near[0] - i) <= 1 and abs(near[1] - j) <= 1 and d < 0.5
+    with pytest.raises(InputError, match="recorded_force_percent"):
+        fit_p0_spread_to_recording(cal, TA, recorded, 30.0, recorded_force_percent=[np.nan, 1.0],
+                                   force_sample_s=0.01)
+    with pytest.raises(InputError, match="force_sample_s"):
+        fit_p0_spread_to_recording(cal, TA, recorded, 30.0, recorded_force_percent=force)
 
 
 def test_a_ramp_that_never_reaches_the_mvc_is_refused():

@@ -2,6 +2,8 @@
 recording's count is respected, a seed fixes the choice, bad input is refused; the comparison of the identified
 units with recorded ones."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -16,7 +18,7 @@ from neuromuscle.pool.identification import (
     identify,
     muap_energy,
 )
-from neuromuscle.pool.recorded_comparison import compare_discharges
+from neuromuscle.pool.recorded_comparison import compare_discharges, discharging_s
 
 P0 = 1.0 + 49.0 * np.linspace(0.0, 1.0, 40) ** 3          # N: most units small, the last ones large
 ACTIVE = np.ones(40, bool)
@@ -69,6 +71,29 @@ def test_count_is_respected_and_the_seed_fixes_the_choice():
     assert a.summary()["model"]["seed"] == 7 and "depth_attenuation" in a.summary()["model"]
 
 
+def test_units_discharging_longer_are_identified_first():
+    """Equal units: the ones discharging longest are the sample; an exponent of 0 leaves the time out; a large unit
+    discharging briefly loses to a smaller one discharging throughout when the energies times the times say so."""
+    p0 = np.full(40, 5.0)
+    time_s = np.linspace(30.0, 5.0, 40)                             # early units discharge longest
+    flat = IdentificationModel(depth_attenuation=0.0)
+    ident = identify(p0, ACTIVE, 50, motor_units=400, model=flat, active_s=time_s)
+    assert np.array_equal(ident.units, np.arange(5)) and ident.weights.sum() == 50
+    ignored = identify(p0, ACTIVE, 50, motor_units=400, model=replace(flat, activity_exponent=0.0), active_s=time_s)
+    assert np.array_equal(ignored.identified_copies, identify(p0, ACTIVE, 50, motor_units=400, model=flat)
+                          .identified_copies)
+    two = identify([1.0, 1.5], np.array([True, True]), 10, motor_units=20, model=flat, active_s=[30.0, 10.0])
+    assert np.array_equal(two.units, [0])                           # 1 * 30 > 1.5 ** 2 * 10
+    assert identify([1.0, 1.5], np.array([True, True]), 10, motor_units=20, model=flat,
+                    active_s=[30.0, 20.0]).units.tolist() == [1]    # 2.25 * 20 > 30
+
+
+@pytest.mark.parametrize("active_s", [[1.0], [1.0, -1.0], [1.0, float("nan")], ["a", "b"]])
+def test_bad_times_discharging_are_refused(active_s):
+    with pytest.raises(InputError, match="active_s"):
+        identify([1.0, 2.0], np.array([True, True]), 2, motor_units=10, active_s=active_s)
+
+
 @pytest.mark.parametrize("kwargs, match", [
     (dict(p0_N=[1.0, -2.0], active=[True, True], count=3, motor_units=10), "P0 > 0"),
     (dict(p0_N=[1.0, 2.0], active=[True], count=3, motor_units=10), "boolean array"),
@@ -83,7 +108,7 @@ def test_bad_input_is_refused(kwargs, match):
 
 
 @pytest.mark.parametrize("kwargs", [dict(depth_attenuation=-1.0), dict(size_exponent=float("nan")),
-                                    dict(seed=-1), dict(seed=1.5)])
+                                    dict(seed=-1), dict(seed=1.5), dict(activity_exponent=-0.5)])
 def test_bad_parameters_are_refused(kwargs):
     with pytest.raises(InputError):
         IdentificationModel(**kwargs)
@@ -117,6 +142,11 @@ T = np.arange(0.0, 20001.0, 1.0)
 FORCE = np.interp(T, [0, 4000, 16000, 20000], [0, 30, 30, 0])
 
 
+def test_time_discharging_is_first_to_last_discharge():
+    assert discharging_s([100.0, 350.0, 2100.0]) == pytest.approx(2.0)
+    assert discharging_s([5.0]) == 0.0 and discharging_s([]) == 0.0
+
+
 def _trains(rates_hz, starts_ms):
     return [np.arange(s, 19000.0 - s / 4, 1000.0 / r) for r, s in zip(rates_hz, starts_ms)]
 
@@ -141,6 +171,7 @@ def test_the_comparison_holds_the_identified_units_beside_the_pool():
     assert np.array_equal(c.identified.identification.units, np.arange(14, 20))
     assert found["thresholds_ks"]["value"] == 0.0 and not whole["thresholds_ks"]["pass"]
     assert found["medians_inside"]["fraction"] > whole["medians_inside"]["fraction"]
+    assert c.identified.active_s == pytest.approx([(t[-1] - t[0]) / 1000.0 for t in pool])
     with pytest.raises(InputError, match="both p0_N and motor_units"):
         compare_discharges(trial, pool, T, FORCE, p0_N=p0)
 
@@ -155,7 +186,7 @@ def test_the_command_estimates_from_a_run_file_and_names_a_bad_one(tmp_path, cap
     p0 = np.linspace(1.0, 10.0, 20)
     thresholds = np.linspace(1.0, 30.0, 20)
     row = {"file": "X.mat", "units": {"p0_N": p0.tolist(), "threshold_percent_mvc": thresholds.tolist(),
-                                      "active": [True] * 20},
+                                      "active": [True] * 20, "discharging_s": [10.0] * 20},
            "recorded_thresholds_percent_mvc": thresholds[-6:].tolist(), "identification": {"motor_units": 100}}
     good = tmp_path / "X.json"
     good.write_text(json.dumps(row))
