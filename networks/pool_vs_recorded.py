@@ -19,8 +19,8 @@ Caillet et al. 2022, 2023; read by path, never copied):
    median and peak rates, recruitment thresholds (KS distance), onion skin, paired-unit Delta F;
 4. the same for the model units a decomposition of the recording would identify
    (``neuromuscle.pool.identification``: of the muscle's units, as many as the recording has, those of highest
-   weight in the recording, from their P0, depths drawn from ``--seed`` and time discharging), beside the whole
-   pool.
+   weight in the recording, from their P0, depths drawn from ``--seed`` and, with ``--activity-exponent``, their
+   time discharging), beside the whole pool.
 The units are not matched one to one.
 
 Run: python networks/pool_vs_recorded.py --out DIR [--file F.mat ...] [--units N] [--corrections K] [--full]
@@ -238,7 +238,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--seed", type=int, default=DEFAULT_SEED, help="seed of the identification's unit depths")
     ap.add_argument("--activity-exponent", type=float, default=ACTIVITY_EXPONENT,
                     help="exponent of a unit's time discharging in its weight in the recording (identification; "
-                         "0: size and depth alone)")
+                         "default 0: size and depth alone)")
     ap.add_argument("--depth-attenuation", type=float, default=DEPTH_ATTENUATION,
                     help="ln of a unit's surface-energy ratio, muscle surface / deep face (identification)")
     ap.add_argument("--motoneurons", choices=tuple(PROFILES), default="default",

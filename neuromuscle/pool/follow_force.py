@@ -252,14 +252,15 @@ def fit_p0_spread_to_recording(cal: Calibration, muscle: HumanMuscle, recorded_t
                                seeds: Sequence[int] = FIT_SEEDS, recorded_force_percent: np.ndarray | None = None,
                                force_sample_s: float | None = None) -> tuple[P0Spread, float]:
     """The P0 spread fitted to one recording: the one whose units a decomposition would identify
-    (``identification.identified_ks``: the recording's count of the active units of highest surface energy, depths
+    (``identification.identified_ks``: the recording's count of the active units of highest weight in it, depths
     from ``seeds``, ``model``'s parameters) have the recruitment thresholds (% MVC, on the calibration ramp)
     closest to the recorded ones.  Active: the units recruited at or below ``peak_percent`` (% MVC, the largest
     force the recording reaches): a pool that follows the force recruits every unit whose threshold a fluctuation
     of the plateau reaches, and with the PIC's hysteresis those units go on firing on the plateau.  Given the
     recorded force (``recorded_force_percent``, % MVC, sampled every ``force_sample_s`` s), each unit's time
-    discharging in the identification (``identify``'s ``active_s``) is the time that force stays at or above the
-    unit's threshold; without it every active unit counts alike.  Range ratios
+    discharging in the identification (``identify``'s ``active_s``, which counts when ``model.activity_exponent``
+    is above 0) is the time that force stays at or above the unit's threshold; without it every active unit counts
+    alike.  Range ratios
     1.5-100 (unit forces span about 100-fold in human muscles: Enoka & Fuglevand 2001) and exponents 0.25-30,
     log-spaced.  The distance is a KS distance of a few tens of units, noisy
     from one spread to the next, so the spread chosen is the one whose distance averaged with its grid neighbours

@@ -13,7 +13,7 @@ onion skin (plateau rate falling with recruitment threshold, Spearman rho < 0); 
 value, with each side's rate decline over the plateau (part of a trapezoid's Delta F).
 
 Given the model units' P0 and the muscle's number of motor units, the model units a decomposition of the recording
-would identify (``identification.identify``: the recording's count of the units of highest surface energy) are
+would identify (``identification.identify``: the recording's count of the units of highest weight in it) are
 compared too, beside the whole pool (``Comparison.identified``; each identified model unit weighs in the thresholds'
 KS distance by the muscle units it stands for).  Units: ms, Hz, % MVC."""
 

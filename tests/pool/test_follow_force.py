@@ -83,7 +83,7 @@ def test_a_spread_fitted_with_the_times_discharging_comes_back_near_the_truth():
     """Identified by size and time discharging (the time a trapezoid to 30 % MVC stays above each threshold):
     the fit given the same force comes back within one grid step; a bad force is refused."""
     cal = _made_up(TA.definition(20), n=20, top=3.0)
-    model = IdentificationModel(depth_attenuation=0.0)
+    model = IdentificationModel(depth_attenuation=0.0, activity_exponent=1.0)
     ratios, powers = np.geomspace(1.5, 100.0, 37), np.geomspace(0.25, 30.0, 23)
     force = np.interp(np.arange(0.0, 40.0, 0.01), [0.0, 6.0, 34.0, 40.0], [0.0, 30.0, 30.0, 0.0])
     for i, j in ((20, 11), (10, 5), (30, 16)):

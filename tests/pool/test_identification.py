@@ -76,7 +76,7 @@ def test_units_discharging_longer_are_identified_first():
     discharging briefly loses to a smaller one discharging throughout when the energies times the times say so."""
     p0 = np.full(40, 5.0)
     time_s = np.linspace(30.0, 5.0, 40)                             # early units discharge longest
-    flat = IdentificationModel(depth_attenuation=0.0)
+    flat = IdentificationModel(depth_attenuation=0.0, activity_exponent=1.0)
     ident = identify(p0, ACTIVE, 50, motor_units=400, model=flat, active_s=time_s)
     assert np.array_equal(ident.units, np.arange(5)) and ident.weights.sum() == 50
     ignored = identify(p0, ACTIVE, 50, motor_units=400, model=replace(flat, activity_exponent=0.0), active_s=time_s)
