@@ -249,7 +249,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         p0 = np.asarray(u["p0_N"], float)
         thr = np.asarray([np.nan if x is None else x for x in u["threshold_percent_mvc"]], float)
         active = np.asarray(u["active"], bool)
-        active_s = np.asarray([0.0 if x is None else x for x in u["discharging_s"]], float)
+        times = u.get("discharging_s")              # absent from runs written before it was recorded
+        active_s = None if times is None else np.asarray([0.0 if x is None else x for x in times], float)
         recorded = np.asarray(row["recorded_thresholds_percent_mvc"], float)
         motor_units = int(row["identification"]["motor_units"])
     except (OSError, ValueError) as exc:

@@ -193,6 +193,10 @@ def test_the_command_estimates_from_a_run_file_and_names_a_bad_one(tmp_path, cap
     out = identification.main([str(good)])
     assert out["file"] == "X.mat" and out["depth_attenuation"] in identification.DEPTH_GRID
     assert json.loads(capsys.readouterr().out)["mean_ks"] == out["mean_ks"]
+    del row["units"]["discharging_s"]                               # a run file written before the times were
+    older = tmp_path / "older.json"
+    older.write_text(json.dumps(row))
+    assert identification.main([str(older)])["mean_ks"] == out["mean_ks"]   # the default model does not use them
     del row["units"]["active"]
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps(row))
