@@ -241,6 +241,7 @@ FIT_SEEDS = range(100, 110)
 def time_above_s(force_percent: np.ndarray, sample_s: float, levels_percent: np.ndarray) -> np.ndarray:
     """How long (s) a force sampled every ``sample_s`` (s) is at or above each of ``levels_percent`` (same unit
     as the force; 0 for a NaN level)."""
+    positive_number("sample_s", sample_s)
     f = np.sort(np.asarray(force_percent, float).ravel())
     lv = np.asarray(levels_percent, float)
     above = f.size - np.searchsorted(f, np.where(np.isfinite(lv), lv, np.inf), side="left")

@@ -23,9 +23,9 @@ early-recruited, smaller ones (Caillet et al. 2023).  The model:
   weigh more in the recording's statistics and be found more reliably.  With ``activity_exponent`` E > 0 a unit's
   weight is its action potential's energy times its time discharging in the trial (s) ** E (1: the energy of all
   its action potentials).  Units recruited near a plateau's top, which discharge on the plateau alone, are then
-  found less often than their size says.  On the eight recordings of ``networks/pool_vs_recorded.py`` E = 1 moved
-  the failures rather than removing them (docs/validation/pools_vs_recorded.md), so the default is 0;
-- **count**: the decomposition identifies the ``count`` active units of highest energy, ``count`` being the number
+  found less often than their size says.  On five of the eight recordings of ``networks/pool_vs_recorded.py``
+  E = 1 moved the failures rather than removing them (docs/validation/pools_vs_recorded.md), so the default is 0;
+- **count**: the decomposition identifies the ``count`` active units of highest weight, ``count`` being the number
   of units the recording itself identified (a count, not which units nor their thresholds).
 
 A model pool has fewer units than the muscle: each model unit stands for ``motor_units / n`` units of the muscle

@@ -77,6 +77,8 @@ def test_time_above_a_level():
     force = np.array([0.0, 10.0, 20.0, 30.0, 30.0, 20.0, 10.0, 0.0])      # sampled every 0.5 s
     assert time_above_s(force, 0.5, np.array([0.0, 15.0, 30.0, 31.0, np.nan])) == pytest.approx(
         [4.0, 2.0, 1.0, 0.0, 0.0])
+    with pytest.raises(InputError, match="sample_s"):
+        time_above_s(force, 0.0, np.array([1.0]))
 
 
 def test_a_spread_fitted_with_the_times_discharging_comes_back_near_the_truth():
