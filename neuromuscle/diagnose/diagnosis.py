@@ -8,7 +8,8 @@ Steps: describe every trial (:mod:`.phases`); split the trials into calibration 
 the baseline (:mod:`.baseline`); set its residuals against the explanatory variables (:mod:`.residuals`); then the
 forward selection of causes (:mod:`.selection`), each candidate fitted with the baseline freedom of the model before it
 (:mod:`.models`) and judged on the held-out trials (:mod:`.evidence`, :mod:`.rules`), and the backward check
-(:mod:`.pruning`): a cause named before the last one that fails a rule against the final model without it is dropped.
+(:mod:`.pruning`): a cause named before the last one that fails a rule of redundancy against the final model without
+it is dropped.
 After the last cause, the residual is *unexplained* when structure that no candidate removes is left in enough trials: a
 trend where the model's muscle is quiet (rule R6's test) or a residual RMS above ``ACTIVE_STRUCTURE_RATIO`` noise sd
 while active.  Below that ratio, a preparation's misfit of parameters its trials cannot pin down and an effect outside

@@ -1,5 +1,5 @@
 """The backward check after the forward selection: every cause named before the last one is judged again, by
-every rule, against the final model without it.
+every rule, against the final model without it, and dropped when the causes after it explain what it explained.
 
 The forward selection names the most material cause first.  When two causes overlap in what they explain, the
 first one named can be the wrong one: it takes up part of the true cause's effect, and the true cause, named
@@ -7,11 +7,19 @@ next, then explains the rest and most of what the first one explained.  The firs
 final model, though it passed every rule against the model before it.  Each such cause is therefore judged
 again as if it were the last candidate proposed: the final model without it, refitted in every free parameter
 from the final values (:func:`without`), is its model before; the final model is its candidate model.  A cause
-that now fails a rule (the later causes explain what it explained) is dropped, the final model becomes the model
-without it, and the check runs again on every cause left, until each passes or one cause is left.  In the first
-round the causes named at the last naming step are not judged again: they were judged against that very model.
-So every cause the diagnosis names passes every rule against the final model without it: none is named for what
-the others explain.
+that now fails a rule of redundancy (``rules.REDUNDANCY_RULES``: nothing left to explain, not identified, not
+beyond noise, not robust, not material: the later causes explain what it explained) is dropped, the final model
+becomes the model without it, and the check runs again on every cause left, until each passes those rules or one
+cause is left.  In the first round the causes named at the last naming step are not judged again: they were judged
+against that very model.  So every cause the diagnosis names explains, beyond noise, robustly and materially,
+something the others do not: none is named for what the others explain.
+
+The rules of where and how a cause acts (R5-R7) were met when it was named; they do not drop it here.  Against a
+model that holds a related cause beside it (doublet and post-activation potentiation on one post-tetanic series)
+they read how one effect is shared between two extensions: a cause that still gains far beyond its penalty on its
+telling trial can show a bootstrap of that one trial's gain below 0.  As in stepwise regression, where a term
+leaves the model at a laxer threshold than it entered by, a cause is not dropped on a weaker ground than the one
+it was named on.  The report gives every rule's outcome, these included.
 
 A cause the forward selection judged by cross-validation over trials (its telling trials all calibrate) is
 judged so here too, as at its own step: on the same split, the model without it fitted again there and the cause
@@ -29,6 +37,7 @@ from .evidence import Evidence
 from .models import MODEL_MAX_ITERATIONS, FittedModel, fit_model
 from .selection import (Context, Step, candidate_on, crossed, identified_on_every_calibration_trial, judge,
                         noise_under, refit_on)
+from .rules import REDUNDANCY_RULES
 
 
 @dataclass
@@ -43,7 +52,8 @@ class Check:
 
     @property
     def dropped(self) -> bool:
-        return not self.evidence.passed
+        """Whether it fails a rule of redundancy (module docstring)."""
+        return any(r in self.evidence.failed for r in REDUNDANCY_RULES)
 
 
 @dataclass

@@ -5,9 +5,10 @@ Writes into DIR (refused when DIR already holds a report, unless overwrite; chec
 * ``diagnosis.json``  schema ``neuromuscle.diagnosis/2``: ``verdict`` (the first cause named, or none / unexplained),
   ``named`` (every cause in order, each with its held-out gain over the model before it, then "unexplained" when
   structure remains), every step of the forward selection with its candidates and their evidence, the backward check
-  (each cause named before the last one judged against the final model without it; those that fail are dropped from
-  ``named``), untestable causes, the baseline (parameters, free and held ones, convergence, NRMSE per trial), the final
-  model, the split, the noise per trial, the residual structure and the decision rules;
+  (each cause named before the last one judged against the final model without it; those that fail a rule of
+  redundancy are dropped from ``named``), untestable causes, the baseline (parameters, free and held ones,
+  convergence, NRMSE per trial), the final model, the split, the noise per trial, the residual structure and the
+  decision rules;
 * ``report.md``       the causes named first, then each step with its figures, the backward check, the trials' errors,
   the rules;
 * ``params.json``     the final model (the baseline plus every cause named); ``neuromuscle simulate --params
@@ -35,7 +36,7 @@ from .diagnosis import ACTIVE_STRUCTURE_RATIO, Diagnosis, diagnose_data, prepare
 from .evidence import N_BOOTSTRAP, STRUCTURE_RATIO
 from .models import DIFFERENCE_DT_MS, DT_MS, RECORD_DT_MS, FittedModel, extension_class
 from .residuals import VARIABLES
-from .rules import RULES
+from .rules import REDUNDANCY_RULES, RULES
 from .selection import Candidate, Step
 
 SCHEMA = "neuromuscle.diagnosis/2"
@@ -309,7 +310,9 @@ def markdown(doc: dict[str, Any]) -> str:
     if doc["backward_check"]:
         lines += ["## Backward check", "",
                   "Each cause named before the last one, judged by every rule against the final model without it "
-                  "(refitted): one that fails is dropped as made redundant by the causes named after it.", ""]
+                  f"(refitted): one that fails a rule of redundancy ({', '.join(REDUNDANCY_RULES)}) is dropped as "
+                  "made redundant by the causes named after it; the other rules, met when it was named, are "
+                  "reported but do not drop it.", ""]
         lines += table(("round", "cause", "against", "outcome", "evidence"),
                        ((str(c["round"]), c["name"], " + ".join(["baseline"] + c["against"]),
                          "dropped" if c["dropped"] else "kept", c["evidence"]) for c in doc["backward_check"]))

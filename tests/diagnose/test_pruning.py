@@ -62,6 +62,19 @@ def test_a_cause_the_later_one_explains_is_dropped(monkeypatch):
     assert p.checks[0].round == 1 and p.checks[0].evidence.failed == {"R4": "failed"}
 
 
+def test_only_a_rule_of_redundancy_drops_a_cause(monkeypatch):
+    # failing where it acts (R7) or the NRMSE where it is judged (R5) against a related later cause keeps it
+    for rules in (("R7",), ("R5", "R7"), ("R6",)):
+        ctx, steps, fits, judged = world(monkeypatch, {("a", "baseline + b"): rules}, [["a"], ["b"]])
+        p = prune(ctx, steps)
+        assert p.named == ["a", "b"] and p.dropped == [] and p.final is steps[-1].after
+        assert set(p.checks[0].evidence.failed) == set(rules) and not p.checks[0].dropped
+    # any one of R0-R4 drops it, whatever else it fails
+    for rules in (("R0",), ("R1",), ("R2",), ("R3", "R7"), ("R4", "R5")):
+        ctx, steps, fits, judged = world(monkeypatch, {("a", "baseline + b"): rules}, [["a"], ["b"]])
+        assert prune(ctx, steps).dropped == ["a"]
+
+
 def test_causes_that_pass_against_the_others_are_kept(monkeypatch):
     ctx, steps, fits, judged = world(monkeypatch, {}, [["a"], ["b"]])
     p = prune(ctx, steps)
