@@ -8,18 +8,20 @@ final model, though it passed every rule against the model before it.  Each such
 again as if it were the last candidate proposed: the final model without it, refitted in every free parameter
 from the final values (:func:`without`), is its model before; the final model is its candidate model.  A cause
 that now fails a rule of redundancy (``rules.REDUNDANCY_RULES``: nothing left to explain, not identified, not
-beyond noise, not robust, not material: the later causes explain what it explained) is dropped, the final model
-becomes the model without it, and the check runs again on every cause left, until each passes those rules or one
-cause is left.  In the first round the causes named at the last naming step are not judged again: they were judged
-against that very model.  So every cause the diagnosis names explains, beyond noise, robustly and materially,
-something the others do not: none is named for what the others explain.
+beyond noise, not robust: the later causes explain what it explained) is dropped, the final model becomes the model
+without it, and the check runs again on every cause left, until each passes those rules or one cause is left.  In
+the first round the causes named at the last naming step are not judged again: they were judged against that very
+model.  So every cause the diagnosis names explains, identified, beyond noise and robustly, something the others
+do not: none is named for what the others explain.
 
-The rules of where and how a cause acts (R5-R7) were met when it was named; they do not drop it here.  Against a
-model that holds a related cause beside it (doublet and post-activation potentiation on one post-tetanic series)
-they read how one effect is shared between two extensions: a cause that still gains far beyond its penalty on its
-telling trial can show a bootstrap of that one trial's gain below 0.  As in stepwise regression, where a term
-leaves the model at a laxer threshold than it entered by, a cause is not dropped on a weaker ground than the one
-it was named on.  The report gives every rule's outcome, these included.
+How much a cause explains (R4) and where and how it acts (R5-R7) were judged when it was named, against the model
+before it; they do not drop it here.  Against a model that holds a related cause beside it they read how one effect
+is shared between two extensions: the final model without it refits the related one to take up what it can (the
+staircase, on random-length trials at one rate, takes up part of movement-induced depression), so what is left to
+the cause can fall under a quarter of the error, and a cause that still gains far beyond its penalty on its one
+telling trial (potentiation on a post-tetanic series beside the doublet) can show a bootstrap of that trial's gain
+below 0.  As in stepwise regression, where a term leaves the model at a laxer threshold than it entered by, a cause
+is not dropped on a ground it was not named on.  The report gives every rule's outcome, these included.
 
 A cause the forward selection judged by cross-validation over trials (its telling trials all calibrate) is
 judged so here too, as at its own step: on the same split, the model without it fitted again there and the cause

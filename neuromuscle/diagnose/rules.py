@@ -31,10 +31,10 @@ REST_Z = 3.0
 REST_MIN_TRIALS = 3
 REST_MIN_FRACTION = 0.2
 #: The rules by which the backward check drops a cause named earlier (:mod:`.pruning`): those that ask whether it
-#: still explains something the causes after it do not.  Where and how it acts (R5-R7) were judged when it was
-#: named; against a model that holds a related cause beside it they read how one effect is shared between two
-#: extensions, not whether the earlier one is needed.
-REDUNDANCY_RULES = ("R0", "R1", "R2", "R3", "R4")
+#: still explains, identified, beyond noise and robustly, something the causes after it do not.  How much (R4) and
+#: where and how it acts (R5-R7) were judged when it was named; against a model that holds a related cause beside
+#: it they read how one effect is shared between two extensions, not whether the earlier one is needed.
+REDUNDANCY_RULES = ("R0", "R1", "R2", "R3")
 
 
 def enough_trials(n: int, of: int) -> bool:

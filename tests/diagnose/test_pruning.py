@@ -54,23 +54,23 @@ def world(monkeypatch, fails: dict[str, tuple[str, ...]], named: list[list[str]]
 
 
 def test_a_cause_the_later_one_explains_is_dropped(monkeypatch):
-    ctx, steps, fits, judged = world(monkeypatch, {("a", "baseline + b"): ("R4",)}, [["a"], ["b"]])
+    ctx, steps, fits, judged = world(monkeypatch, {("a", "baseline + b"): ("R2", "R4")}, [["a"], ["b"]])
     p = prune(ctx, steps)
     assert judged == [("a", "baseline + b", "baseline + a + b", ("held_train",))]   # b was judged at the last step
     assert fits == [(("b",), ("twitch", "train", "long_train"))]
     assert p.named == ["b"] and p.dropped == ["a"] and p.final.name == "baseline + b"
-    assert p.checks[0].round == 1 and p.checks[0].evidence.failed == {"R4": "failed"}
+    assert p.checks[0].round == 1 and p.checks[0].evidence.failed == {"R2": "failed", "R4": "failed"}
 
 
 def test_only_a_rule_of_redundancy_drops_a_cause(monkeypatch):
-    # failing where it acts (R7) or the NRMSE where it is judged (R5) against a related later cause keeps it
-    for rules in (("R7",), ("R5", "R7"), ("R6",)):
+    # failing how much it explains (R4) or where it acts (R5, R7) against a related later cause keeps it
+    for rules in (("R7",), ("R4", "R5"), ("R6",), ("R4", "R5", "R6", "R7")):
         ctx, steps, fits, judged = world(monkeypatch, {("a", "baseline + b"): rules}, [["a"], ["b"]])
         p = prune(ctx, steps)
         assert p.named == ["a", "b"] and p.dropped == [] and p.final is steps[-1].after
         assert set(p.checks[0].evidence.failed) == set(rules) and not p.checks[0].dropped
-    # any one of R0-R4 drops it, whatever else it fails
-    for rules in (("R0",), ("R1",), ("R2",), ("R3", "R7"), ("R4", "R5")):
+    # any one of R0-R3 drops it, whatever else it fails
+    for rules in (("R0",), ("R1",), ("R2",), ("R3", "R7"), ("R2", "R3", "R4")):
         ctx, steps, fits, judged = world(monkeypatch, {("a", "baseline + b"): rules}, [["a"], ["b"]])
         assert prune(ctx, steps).dropped == ["a"]
 
@@ -89,7 +89,7 @@ def test_one_cause_or_one_step_is_not_judged_again(monkeypatch):
 
 
 def test_after_a_drop_every_cause_left_is_judged_against_the_new_final_model(monkeypatch):
-    fails = {("a", "baseline + b + c"): ("R4",), ("b", "baseline + a + c"): ("R4",)}
+    fails = {("a", "baseline + b + c"): ("R3",), ("b", "baseline + a + c"): ("R2", "R3")}
     ctx, steps, fits, judged = world(monkeypatch, fails, [["a"], ["b"], ["c"]])
     p = prune(ctx, steps)
     # round 1: a and b (c was named last); both fail, b (judged second: the lower gain here) is the worst
