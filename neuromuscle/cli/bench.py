@@ -28,9 +28,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bf.add_argument("--params", default="CT09")
     bf.add_argument("--json", action="store_true")
     bf.set_defaults(func=run)
-    bd = bsub.add_parser("diagnose", help="wall time of one full diagnosis of a synthetic file (a null, or one "
-                                          "hiding --cause; the world --world, by default B: 36 trials) and of its "
-                                          "baseline calibration alone")
+    bd = bsub.add_parser("diagnose", help="wall and CPU time of one full diagnosis of a synthetic file (a null, or "
+                                          "one hiding --cause; the world --world, by default B: 36 trials) and of "
+                                          "its baseline calibration alone")
     bd.add_argument("--workers", type=int, default=2)
     bd.add_argument("--world", default="B", help="the world of the single file (neuromuscle synth --list)")
     bd.add_argument("--cause", default=None, help="the single file's hidden cause (neuromuscle synth --list; "
