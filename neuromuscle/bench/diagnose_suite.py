@@ -239,8 +239,9 @@ def _evidence_row(ev: Evidence) -> dict[str, Any]:
                        for i, t in ev.per_trial.items()}}
 
 
-def run_case(case: SuiteCase, workers: int) -> dict[str, Any]:
-    """Make and diagnose one case blind; its record (draw, named, per-step candidates, score, wall time)."""
+def run_case(case: SuiteCase, workers: int, reach: bool = False) -> dict[str, Any]:
+    """Make and diagnose one case blind (reach: the diagnosis's option of that name); its record (draw, named,
+    per-step candidates, score, wall time)."""
     from ..diagnose.diagnosis import diagnose_data
     from ..synth import make_dataset, truth, without_truth
 
@@ -249,9 +250,10 @@ def run_case(case: SuiteCase, workers: int) -> dict[str, Any]:
     data = make_dataset(first[0], first[1], case.seed, noise_pct=case.noise_pct, workers=workers, world=case.world,
                         also=dict(also) or None)
     row: dict[str, Any] = {"world": case.world, "effects": [list(e) for e in case.effects],
-                           "noise_pct": case.noise_pct, "seed": case.seed, "label": case.label}
+                           "noise_pct": case.noise_pct, "seed": case.seed, "label": case.label,
+                           **({"heldout_reach": True} if reach else {})}
     try:
-        d = diagnose_data(without_truth(data), workers=workers)
+        d = diagnose_data(without_truth(data), workers=workers, reach=reach)
     except (InputError, NumericalError) as e:  # one case's failure is recorded, and the suite goes on
         return {**row, "error": str(e), "named": [], "wall_s": round(time.perf_counter() - t0, 1)}
     passed = d.causes
@@ -286,10 +288,11 @@ def run_case(case: SuiteCase, workers: int) -> dict[str, Any]:
 
 def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 0, workers: int = 2,
               worlds: Sequence[str] = ("B",), two_effect: int = 0, progress: bool = False,
-              journal: str | None = None, first: int = 1) -> dict[str, Any]:
+              journal: str | None = None, first: int = 1, reach: bool = False) -> dict[str, Any]:
     """Make and diagnose every case of ``suite_cases`` blind and return {"cases": [...], **score}.  journal: a
     file to which each case's record is appended as one JSON line when done (a long suite's finished cases survive
-    an interrupt); first: the case (1-based, in ``suite_cases`` order) to start from, to resume."""
+    an interrupt); first: the case (1-based, in ``suite_cases`` order) to start from, to resume; reach: the
+    diagnosis's option of that name."""
     cases = suite_cases(n_seeds, causes, seed, worlds, two_effect)
     if not cases:
         raise InputError("the suite has no case: give --suite N >= 1 or --two-effect K >= 1")
@@ -297,7 +300,7 @@ def run_suite(n_seeds: int, *, causes: Sequence[str] | None = None, seed: int = 
         raise InputError(f"the first case must be between 1 and {len(cases)}, got {first!r}")
     results = []
     for k, case in enumerate(cases[first - 1:], first):
-        row = run_case(case, workers)
+        row = run_case(case, workers, reach)
         results.append(row)
         _journal(journal, row)
         if progress:

@@ -52,6 +52,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bd.add_argument("--score", nargs="+", default=None, metavar="JOURNAL",
                     help="instead: score the finished cases of suite journals (several partial or parallel runs "
                          "as one; a name ending in .gz is read gzip-compressed), no diagnosis run")
+    bd.add_argument("--reach", action="store_true",
+                    help="with --suite: measure each candidate's held-out evidence from what the model before "
+                         "reaches within its calibration confidence region (an option of the diagnosis, not yet "
+                         "measured on held-out seeds)")
     bd.add_argument("--separability", action="store_true",
                     help="with --suite: instead of diagnosing, how far each case's hidden effect can be told from "
                          "calibration, to first order at the truth (about 1 min a case)")
@@ -169,7 +173,7 @@ def run_diagnose(args: argparse.Namespace) -> int:
     if args.score is not None:
         suite_only = [f for f, given in (("--suite", args.suite is not None), ("--causes", args.causes is not None),
                                          ("--journal", args.journal is not None), ("--first", args.first != 1),
-                                         ("--two-effect", bool(args.two_effect)),
+                                         ("--two-effect", bool(args.two_effect)), ("--reach", args.reach),
                                          ("--separability", args.separability)) if given]
         if suite_only:
             raise InputError(f"--score reads journals; it takes no {', '.join(suite_only)}")
@@ -196,12 +200,13 @@ def run_diagnose(args: argparse.Namespace) -> int:
                   "\n".join(separability_lines(rows)))
             return 0
         res = run_suite(args.suite, causes=causes, seed=args.seed, workers=args.workers, worlds=worlds,
-                        two_effect=args.two_effect, progress=True, journal=args.journal, first=args.first)
+                        two_effect=args.two_effect, progress=True, journal=args.journal, first=args.first,
+                        reach=args.reach)
         print(json.dumps(res, indent=2) if args.json else "\n".join(table_lines(res)))
         return 0
     if args.causes is not None or args.journal is not None or args.first != 1 or args.separability or \
-            args.two_effect:
-        raise InputError("--causes, --journal, --first, --two-effect and --separability need --suite")
+            args.two_effect or args.reach:
+        raise InputError("--causes, --journal, --first, --two-effect, --reach and --separability need --suite")
     world(args.world)  # an unknown world refused before any work
     if args.cause is not None:
         from ..synth.dataset import hidden_effects

@@ -47,7 +47,8 @@ class Diagnosis:
     """Everything the report needs: the data and their descriptions, the split, the baseline, the residual
     structure of the baseline, every step of the forward selection, the backward check's judgements, the causes
     named (those the backward check kept), the final model, the trials still structured under it, each trial's
-    rest trend z under it (None without a rest window), wall time (s)."""
+    rest trend z under it (None without a rest window), wall time (s), and whether the held-out evidence was
+    measured from the models' reach (:mod:`.reach`)."""
 
     data: MeasuredData
     phases: dict[str, TrialPhases]
@@ -62,6 +63,7 @@ class Diagnosis:
     wall_time_s: float
     variables: dict[str, dict[str, np.ndarray]] = field(repr=False, default_factory=dict)
     checks: list[Check] = field(default_factory=list)
+    reach: bool = False
 
     @property
     def verdict(self) -> str:
@@ -94,16 +96,19 @@ def left_unexplained(d_rest: dict[str, float | None], structured_active: Sequenc
 
 
 def diagnose_data(data: MeasuredData, *, heldout: Sequence[str] | None = None, base: ParameterSet | None = None,
-                  workers: int = 1, progress: bool = False, max_steps: int | None = None) -> Diagnosis:
+                  workers: int = 1, progress: bool = False, max_steps: int | None = None,
+                  reach: bool = False) -> Diagnosis:
     """The diagnosis of ``data`` (module docstring): automatic split or the ``heldout`` ids, base set CT09 unless
-    ``base``, ``workers`` simulation processes, progress on stderr."""
+    ``base``, ``workers`` simulation processes, progress on stderr; reach: every candidate's held-out evidence
+    measured from what the model before reaches within its calibration confidence region (:mod:`.reach`; off by
+    default, not yet measured on held-out seeds)."""
     t0 = time.perf_counter()
     split = prepare(data, heldout)
     base = base or load_parameters("CT09")
     trials = list(data.trials.values())
     with TrialPool(trials, workers) if workers > 1 else nullcontext() as pool:
         phases = describe_all(data.trials)
-        ctx = Context(data, phases, split.calibration, split.heldout, {}, base, (), pool, progress)
+        ctx = Context(data, phases, split.calibration, split.heldout, {}, base, (), pool, progress, reach=reach)
         ctx.say(f"split ({split.method}): {len(split.calibration)} calibration, {len(split.heldout)} held-out")
         baseline = calibrate_baseline(data, phases, split.calibration, base, pool=pool, progress=progress)
         ctx.noise = baseline.noise
@@ -125,4 +130,4 @@ def diagnose_data(data: MeasuredData, *, heldout: Sequence[str] | None = None, b
             named.append("unexplained")
         ctx.say(f"named: {', '.join(named) or 'none'}")
     return Diagnosis(data, phases, split, baseline, structure, steps, named, final, structured, rest,
-                     time.perf_counter() - t0, variables, pruned.checks)
+                     time.perf_counter() - t0, variables, pruned.checks, reach)

@@ -183,7 +183,7 @@ def diagnosis_json(d: Diagnosis, data_path: str, figures: dict[str, str]) -> dic
                                "final": {"structured_trials": d.structured_after, "rest_trend_z": d.rest}},
         "rules": [r.to_json() for r in RULES],
         "settings": {"n_bootstrap": N_BOOTSTRAP, "structure_ratio": STRUCTURE_RATIO,
-                     "active_structure_ratio": ACTIVE_STRUCTURE_RATIO},
+                     "active_structure_ratio": ACTIVE_STRUCTURE_RATIO, "heldout_reach": d.reach},
         "simulation": {"method": "fixed step", "dt_ms": DT_MS, "record_dt_ms": RECORD_DT_MS, "settle_ms": 0.0,
                        "fit_jacobian": "forward differences", "difference_dt_ms": DIFFERENCE_DT_MS},
         "figures": figures, "parameters_file": "params.json", "wall_time_s": d.wall_time_s,

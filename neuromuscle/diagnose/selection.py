@@ -32,7 +32,9 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    held-out rule on the held-out trials and those trials together; whether its effect is identified (rule R1) is
    read from its fit on every calibration trial, which holds the trials that tell it.  There, a cause defined
    after a movement is measured from the isometric force at the hold's length, and one that acts through the
-   movement from the isometric misfit at every sample's length (:func:`.causes.isometric_level`);
+   movement from the isometric misfit at every sample's length (:func:`.causes.isometric_level`).  With the
+   option ``reach`` (off by default), the model before's held-out forces in all of this are those it reaches within
+   its calibration confidence region (:mod:`.reach`, :func:`reached`);
 5. the passing candidate with the best whole-file score is named; its model, refitted in every free parameter
    (:func:`consolidate`), becomes M;
 6. **two at once** (:func:`joint`), when no candidate passes but one is beyond noise and material alone (rules
@@ -68,6 +70,7 @@ from .evidence import Evidence, WindowSamples, excess, gather, quiet_window
 from .models import (CANDIDATE_TOLERANCE, MODEL_MAX_ITERATIONS, OPTIONS, FittedModel, extension_class,
                      extension_defaults, fit_model, simulate_all)
 from .phases import TrialPhases
+from .reach import heldout_reach
 from .residuals import Noise, noise_level, rest_trend_z
 from .rules import REST_Z, apply_rules
 from .screening import Screen, screen
@@ -189,6 +192,8 @@ class Context:
     crossed: dict[tuple[str, ...], Context] = field(default_factory=dict)
     refits: dict[str, FittedModel] = field(default_factory=dict)
     candidates: dict[str, FittedModel] = field(default_factory=dict)
+    reach: bool = False
+    reaches: dict[tuple, FittedModel] = field(default_factory=dict)
 
     @property
     def trials(self) -> list[Trial]:
@@ -291,9 +296,28 @@ def calibration_side(ctx: Context, name: str, before: FittedModel, model: Fitted
                                       n_par * math.log(max(n_eff_cal, 2.0)))
 
 
+def reached(ctx: Context, model: FittedModel) -> FittedModel:
+    """``model`` as the reference of a candidate's held-out evidence: itself, or with ``ctx.reach`` its held-out
+    forces replaced by those it reaches within its calibration confidence region (:mod:`.reach`; its own where a
+    run of the differences failed); kept per model and noise estimate."""
+    if not ctx.reach:
+        return model
+    key = (model.name, tuple(model.parameters[n] for n in model.free),
+           tuple(ctx.noise[i].sd_N for i in ctx.data.trials))
+    if key not in ctx.reaches:
+        forces = heldout_reach(model, ctx.calibration_trials, [ctx.data.trials[i] for i in ctx.heldout], ctx.noise,
+                               ctx.pool)
+        if forces is None:
+            ctx.say(f"    {model.name}: a run of its reach failed numerically; its own held-out forces are used")
+        ctx.reaches[key] = model if forces is None else replace(model, simulated={**model.simulated, **forces})
+    return ctx.reaches[key]
+
+
 def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
           telling_heldout: Sequence[str]) -> Evidence:
-    """The evidence of candidate ``name`` (fitted: ``model``) against ``before``, with every rule applied."""
+    """The evidence of candidate ``name`` (fitted: ``model``) against ``before`` (or what it reaches, with
+    ``ctx.reach``), with every rule applied."""
+    before = reached(ctx, before)
     n_par = len(extension_class(name).parameters)
     identified, calib = calibration_side(ctx, name, before, model)
     window, quiet = _windows(ctx, name, before, model, telling_heldout)
@@ -463,7 +487,7 @@ def crossed(ctx: Context, trials: Sequence[str]) -> Context:
     if sub is None:
         sub = replace(ctx, calibration=tuple(i for i in ctx.calibration if i not in key),
                       heldout=tuple(ctx.heldout) + key, baseline=None, crossed={}, refits={},
-                      candidates={})
+                      candidates={}, reaches={})
         ctx.crossed[key] = sub
     sub.noise = ctx.noise
     if sub.baseline is None and ctx.baseline is not None:
