@@ -6,8 +6,8 @@ Where the calibration trials leave a valley of equal fit (parameters they do not
 somewhere on it, and its prediction of a held-out trial that depends on those parameters is as uncertain as the
 valley is long.  A candidate whose fit moves the shared parameters along the valley then gains on that trial
 without describing any effect.  The model before could have moved there itself; that gain is no evidence for the
-candidate.  So the model before's held-out forces are replaced by those it reaches after the move d of its free
-parameters (in the fits' search coordinates z) that minimises
+candidate.  So the held-out forces of the model before, and those of the candidate's model, are replaced by those
+each reaches after the move d of its free parameters (in the fits' search coordinates z) that minimises
 
     |r_h - J_h d|^2    subject to    d^T J_c^T J_c d + q |d|^2 / MAX_MOVE^2 <= q,    q = chi2(k, CONFIDENCE),
 
@@ -16,7 +16,10 @@ where r_h are its weighted held-out residuals (each trial's residual times sqrt 
 differences at the fits' Jacobian step), and k its free parameters: the calibration chi-square rises by less than
 the 95 % quantile for k parameters, and no coordinate moves by more than MAX_MOVE (a log-scaled parameter by a
 factor of at most e^0.5), within the reach of a linearisation.  Without the confidence bound the move would trade
-calibration fit for held-out fit and take up real causes too.
+calibration fit for held-out fit.  Both models reach, in the same parameters (the model before's free ones, and
+the candidate's own besides for the candidate): measured from the model before's reach alone, a real cause whose
+effect the model before's parameters can partly imitate would lose what the model before gains that way, though
+its own model reaches further still.
 """
 
 from __future__ import annotations
@@ -79,11 +82,13 @@ def _weighted(forces: Sequence[np.ndarray], trials: Sequence[Trial], noise: Mapp
 
 
 def heldout_reach(model: FittedModel, calibration: Sequence[Trial], heldout: Sequence[Trial],
-                  noise: Mapping[str, Noise], pool: TrialPool | None = None) -> dict[str, np.ndarray] | None:
-    """The held-out forces (N, by trial id) ``model`` reaches by the move of the module docstring (a trial without
+                  noise: Mapping[str, Noise], pool: TrialPool | None = None,
+                  free: Sequence[str] | None = None) -> dict[str, np.ndarray] | None:
+    """The held-out forces (N, by trial id) ``model`` reaches by the move of the module docstring in the parameters
+    ``free`` (default: those it was fitted in; a trial without
     a stimulus keeps the model's own), None when a run of the differences failed numerically (the model's own
     forces are then the reference)."""
-    names = list(model.free)
+    names = list(model.free if free is None else free)
     own = {t.trial_id: model.simulated[t.trial_id] for t in heldout}
     # a trial without a stimulus carries nothing on the parameters that activation sets: its force stays the model's
     calibration = [t for t in calibration if np.size(t.stimulus_times_s) > 0]

@@ -33,8 +33,8 @@ One step, at the current model M (the baseline, then the baseline plus the cause
    read from its fit on every calibration trial, which holds the trials that tell it.  There, a cause defined
    after a movement is measured from the isometric force at the hold's length, and one that acts through the
    movement from the isometric misfit at every sample's length (:func:`.causes.isometric_level`).  With the
-   option ``reach`` (off by default), the model before's held-out forces in all of this are those it reaches within
-   its calibration confidence region (:mod:`.reach`, :func:`reached`);
+   option ``reach`` (off by default), the held-out forces of the model before and of the candidate's model in all
+   of this are those each reaches within its calibration confidence region (:mod:`.reach`, :func:`reached`);
 5. the passing candidate with the best whole-file score is named; its model, refitted in every free parameter
    (:func:`consolidate`), becomes M;
 6. **two at once** (:func:`joint`), when no candidate passes but one is beyond noise and material alone (rules
@@ -247,13 +247,15 @@ def _identified(model: FittedModel, name: str) -> list[str]:
     return out
 
 
-def _windows(ctx: Context, name: str, before: FittedModel, model: FittedModel,
-             telling_heldout: Sequence[str]) -> tuple[dict[str, WindowSamples], dict[str, WindowSamples] | None]:
+def _windows(ctx: Context, name: str, before: FittedModel, model: FittedModel, telling_heldout: Sequence[str],
+             fitted: FittedModel | None = None
+             ) -> tuple[dict[str, WindowSamples], dict[str, WindowSamples] | None]:
     """Rule R7's held-out samples of cause ``name`` (module docstring, step 4), and its telling trials' samples
     when they are quiet under the model before and the cause is judged where it acts instead (else None).  Where a
     cause is defined by the distance from the optimum (length-dependent activation, lengthening below it), the
     optimum is the candidate's own g1: a model without the cause bends g1 to absorb it, and trials at the true
-    optimum would then count as off it, where the cause changes nothing."""
+    optimum would then count as off it, where the cause changes nothing.  Where it acts is read from ``fitted``
+    (default ``model``): the candidate's own forces when ``model`` holds those it reaches."""
     ext = extension_class(name)
     g1 = float(model.parameters["g1"])
     measured = ctx.measured
@@ -277,7 +279,7 @@ def _windows(ctx: Context, name: str, before: FittedModel, model: FittedModel,
     held = [ctx.data.trials[i] for i in ctx.heldout]
     off = simulate_all(model.parameters.with_values(neutral), held, model.extensions, pool=ctx.pool)
     for i in ctx.heldout:
-        mask = np.abs(model.simulated[i] - off[i]) > ACTS_SD * ctx.noise[i].sd_N
+        mask = np.abs((fitted or model).simulated[i] - off[i]) > ACTS_SD * ctx.noise[i].sd_N
         if mask.any():
             out[i] = WindowSamples(mask, "acts")
     if not out:
@@ -296,17 +298,19 @@ def calibration_side(ctx: Context, name: str, before: FittedModel, model: Fitted
                                       n_par * math.log(max(n_eff_cal, 2.0)))
 
 
-def reached(ctx: Context, model: FittedModel) -> FittedModel:
-    """``model`` as the reference of a candidate's held-out evidence: itself, or with ``ctx.reach`` its held-out
-    forces replaced by those it reaches within its calibration confidence region (:mod:`.reach`; its own where a
-    run of the differences failed); kept per model and noise estimate."""
+def reached(ctx: Context, model: FittedModel, free: Sequence[str] | None = None) -> FittedModel:
+    """``model`` as it enters a candidate's held-out evidence: itself, or with ``ctx.reach`` its held-out forces
+    replaced by those it reaches within its calibration confidence region in the parameters ``free`` (default:
+    those it was fitted in; :mod:`.reach`; its own where a run of the differences failed); kept per model, free
+    parameters and noise estimate."""
     if not ctx.reach:
         return model
-    key = (model.name, tuple(model.parameters[n] for n in model.free),
+    names = tuple(model.free if free is None else free)
+    key = (model.name, names, tuple(model.parameters[n] for n in names),
            tuple(ctx.noise[i].sd_N for i in ctx.data.trials))
     if key not in ctx.reaches:
         forces = heldout_reach(model, ctx.calibration_trials, [ctx.data.trials[i] for i in ctx.heldout], ctx.noise,
-                               ctx.pool)
+                               ctx.pool, names)
         if forces is None:
             ctx.say(f"    {model.name}: a run of its reach failed numerically; its own held-out forces are used")
         ctx.reaches[key] = model if forces is None else replace(model, simulated={**model.simulated, **forces})
@@ -315,12 +319,15 @@ def reached(ctx: Context, model: FittedModel) -> FittedModel:
 
 def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
           telling_heldout: Sequence[str]) -> Evidence:
-    """The evidence of candidate ``name`` (fitted: ``model``) against ``before`` (or what it reaches, with
-    ``ctx.reach``), with every rule applied."""
-    before = reached(ctx, before)
-    n_par = len(extension_class(name).parameters)
+    """The evidence of candidate ``name`` (fitted: ``model``) against ``before`` (with ``ctx.reach``: what each
+    reaches, the candidate in the model before's free parameters and its own), with every rule applied."""
+    ext = extension_class(name)
+    own = tuple(ext.qualified(p.name) for p in ext.parameters)
+    fitted = model
+    before, model = reached(ctx, before), reached(ctx, model, tuple(dict.fromkeys(before.free + own)))
+    n_par = len(ext.parameters)
     identified, calib = calibration_side(ctx, name, before, model)
-    window, quiet = _windows(ctx, name, before, model, telling_heldout)
+    window, quiet = _windows(ctx, name, before, model, telling_heldout, fitted)
     ev = gather(ctx.heldout, ctx.measured, before.simulated, model.simulated, ctx.noise, n_par,
                 identified, calib, window, quiet=quiet)
     if ctx.baseline is not None:
