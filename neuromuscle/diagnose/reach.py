@@ -1,6 +1,7 @@
 """What a model reaches on the held-out trials by moving its own parameters within their calibration confidence
-region, to first order: the reference a candidate's held-out gain is measured from when the diagnosis runs with
-``reach=True`` (an option, off by default: read on development files, not yet measured on held-out seeds).
+region, to first order: the held-out forces of the model before and of the candidate's model that every rule
+reads when the diagnosis runs with ``reach=True`` (an option, off by default: read on development files, not yet
+measured on held-out seeds).
 
 Where the calibration trials leave a valley of equal fit (parameters they do not determine), the fitted model sits
 somewhere on it, and its prediction of a held-out trial that depends on those parameters is as uncertain as the
