@@ -31,8 +31,10 @@ from typing import Mapping, Sequence
 import numpy as np
 from scipy.stats import chi2
 
+from ..errors import NumericalError
 from ..fit import FitProblem
-from ..fit.evaluate import TrialPool, simulate_batched
+from ..fit.evaluate import TrialPool, batched_residuals
+from ..fit.optimizers import fd_jacobian
 from ..measured import Trial
 from .models import DIFFERENCE_DT_MS, OPTIONS, FittedModel, chi2_weights, extension_bounds
 from .residuals import Noise
@@ -41,7 +43,7 @@ from .residuals import Noise
 CONFIDENCE = 0.95
 #: The largest move of the search vector (Euclidean norm, search coordinates).
 MAX_MOVE = 0.5
-#: The finite-difference step in the search coordinates (inwards at an upper bound).
+#: The finite-difference step in the search coordinates (one-sided inwards at a bound, :func:`fd_jacobian`).
 STEP = 1e-3
 
 
@@ -77,18 +79,12 @@ def constrained_move(jc: np.ndarray, jh: np.ndarray, r: np.ndarray, q: float, ma
     return lift @ u_at(lam)
 
 
-def _weighted(forces: Sequence[np.ndarray], trials: Sequence[Trial], noise: Mapping[str, Noise]) -> np.ndarray:
-    return np.concatenate([np.asarray(f, dtype=float) * np.sqrt(noise[t.trial_id].chi2_weight)
-                           for f, t in zip(forces, trials)])
-
-
 def heldout_reach(model: FittedModel, calibration: Sequence[Trial], heldout: Sequence[Trial],
                   noise: Mapping[str, Noise], pool: TrialPool | None = None,
                   free: Sequence[str] | None = None) -> dict[str, np.ndarray] | None:
     """The held-out forces (N, by trial id) ``model`` reaches by the move of the module docstring in the parameters
-    ``free`` (default: those it was fitted in; a trial without
-    a stimulus keeps the model's own), None when a run of the differences failed numerically (the model's own
-    forces are then the reference)."""
+    ``free`` (default: those it was fitted in; a trial without a stimulus keeps the model's own), None when a run
+    of the differences failed numerically (the model's own forces are then the reference)."""
     names = list(model.free if free is None else free)
     own = {t.trial_id: model.simulated[t.trial_id] for t in heldout}
     # a trial without a stimulus carries nothing on the parameters that activation sets: its force stays the model's
@@ -101,23 +97,20 @@ def heldout_reach(model: FittedModel, calibration: Sequence[Trial], heldout: Seq
     options = replace(OPTIONS, extensions=model.extensions, dt_ms=DIFFERENCE_DT_MS, differenced=True)
     problem = FitProblem(trials, model.parameters, {n: bounds.get(n) for n in names}, objective="sse",
                          weights=chi2_weights(trials, noise), options=options)
-    z0 = problem.to_z(model.parameters)
-    _, top = problem.z_bounds()
-    steps = np.where(z0 + STEP <= top, STEP, -STEP)      # one-sided inwards at an upper bound
-    zs = [z0] + [z0 + h * e for h, e in zip(steps, np.eye(z0.size))]
-    params = [problem.parameters(z) for z in zs]
-    sims = pool.simulate(params, trials, options) if pool is not None else \
-        simulate_batched(params, trials, [options] * len(params))
-    if any(s is None for s in sims):
+    lo, hi = problem.z_bounds()
+
+    def run_all(zs: list[np.ndarray]) -> list[np.ndarray]:
+        return pool.residuals(problem, zs) if pool is not None else batched_residuals(problem, zs)
+
+    try:
+        jac, _ = fd_jacobian(problem.to_z(model.parameters), lo, hi, run_all, "forward", STEP, None)
+    except NumericalError:
         return None
-    n_cal = len(calibration)
-    base_c, base_h = _weighted(sims[0][:n_cal], calibration, noise), _weighted(sims[0][n_cal:], heldout, noise)
-    jc = np.column_stack([(_weighted(s[:n_cal], calibration, noise) - base_c) / h for s, h in zip(sims[1:], steps)])
-    jh = np.column_stack([(_weighted(s[n_cal:], heldout, noise) - base_h) / h for s, h in zip(sims[1:], steps)])
-    measured = [np.asarray(t.force, dtype=float) for t in heldout]
-    r = _weighted([model.simulated[t.trial_id] - m for t, m in zip(heldout, measured)], heldout, noise)
-    d = constrained_move(jc, jh, -r, float(chi2.ppf(CONFIDENCE, len(names))))
-    shift = jh @ d
+    n_cal = sum(t.n_samples for t in calibration)
+    # the residuals at the model's own forces (its step), the Jacobian's columns at the fits' Jacobian step
+    r = problem.residuals_from([model.simulated[t.trial_id] for t in trials])[n_cal:]
+    jh = jac[n_cal:]
+    shift = jh @ constrained_move(jac[:n_cal], jh, -r, float(chi2.ppf(CONFIDENCE, len(names))))
     out, pos = own, 0
     for t in heldout:
         n = t.n_samples
