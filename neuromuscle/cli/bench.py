@@ -55,7 +55,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     bd.add_argument("--reach", action="store_true",
                     help="with --suite: measure each candidate's held-out evidence from what the model before "
                          "and the candidate's model each reach within their calibration confidence region (an "
-                         "option of the diagnosis, not yet measured on held-out seeds)")
+                         "option of the diagnosis, off by default; docs/validation/diagnosis.md)")
     bd.add_argument("--separability", action="store_true",
                     help="with --suite: instead of diagnosing, how far each case's hidden effect can be told from "
                          "calibration, to first order at the truth (about 1 min a case)")

@@ -101,7 +101,7 @@ def diagnose_data(data: MeasuredData, *, heldout: Sequence[str] | None = None, b
     """The diagnosis of ``data`` (module docstring): automatic split or the ``heldout`` ids, base set CT09 unless
     ``base``, ``workers`` simulation processes, progress on stderr; reach: every candidate's held-out evidence
     measured from what the model before and the candidate's model each reach within their calibration confidence
-    region (:mod:`.reach`; off by default, not yet measured on held-out seeds)."""
+    region (:mod:`.reach`; off by default: on held-out files it named what the default names, at more cost)."""
     t0 = time.perf_counter()
     split = prepare(data, heldout)
     base = base or load_parameters("CT09")

@@ -1,7 +1,8 @@
 """What a model reaches on the held-out trials by moving its own parameters within their calibration confidence
 region, to first order: the held-out forces of the model before and of the candidate's model that every rule
-reads when the diagnosis runs with ``reach=True`` (an option, off by default: read on development files, not yet
-measured on held-out seeds).
+reads when the diagnosis runs with ``reach=True`` (an option, off by default: it removed a false alarm and named
+missed causes on the development files it came from, and on held-out files named what the default names, at more
+cost; docs/validation/diagnosis.md).
 
 Where the calibration trials leave a valley of equal fit (parameters they do not determine), the fitted model sits
 somewhere on it, and its prediction of a held-out trial that depends on those parameters is as uncertain as the
