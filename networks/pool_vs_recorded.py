@@ -77,6 +77,18 @@ def lead_in_ms(rec: RecordedDischarges, baseline_percent: float = 1.0) -> float:
     return max(1000.0, first - rec.rest_times_ms(baseline_percent)[0] + 500.0)
 
 
+def calibrate_muscle(muscle: str, units: int, options: dict[str, Any], scales: dict[str, float], *, dt_ms: float,
+                     top_uS: float, ramp_ms: float) -> Calibration:
+    """The calibration ramp (``follow_force.calibrate``) of ``muscle``'s pool (TA or GM) of ``units`` units, its
+    motoneurons given ``options`` (overrides, neuromodulation, noise) and size-dependent ``scales`` on top of the
+    muscle's own."""
+    muscle_scales = dict(HUMAN_MUSCLES[muscle].motoneuron_scales)
+    for k, f in scales.items():
+        muscle_scales[k] = muscle_scales.get(k, 1.0) * f
+    return calibrate(HUMAN_MUSCLES[muscle].definition(units, motoneuron_scales=muscle_scales, **options),
+                     dt_ms=dt_ms, top_uS=top_uS, ramp_ms=ramp_ms)
+
+
 def follow(path: Path, cal: Calibration, spread: P0Spread, corrections: int, dt_ms: float,
            identification: IdentificationModel, motor_units: int) -> dict[str, Any]:
     """Drive the calibrated pool so that its force follows the file's force; compare the discharges, the whole
@@ -301,12 +313,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     for path in paths:
         m = muscle_of(path)
         if m not in calibrations:
-            muscle_scales = dict(HUMAN_MUSCLES[m].motoneuron_scales)
-            for k, f in scales.items():
-                muscle_scales[k] = muscle_scales.get(k, 1.0) * f
-            cal = calibrate(HUMAN_MUSCLES[m].definition(n, motoneuron_scales=muscle_scales, **options),
-                            dt_ms=a.dt_ms, top_uS=a.calibration_top_uS,
-                            ramp_ms=a.calibration_ramp_ms)
+            cal = calibrate_muscle(m, n, options, scales, dt_ms=a.dt_ms, top_uS=a.calibration_top_uS,
+                                   ramp_ms=a.calibration_ramp_ms)
             calibrations[m] = (cal, cal.fit_p0_spread(HUMAN_MUSCLES[m]))
             sp = calibrations[m][1]
             print(f"{m}: P0 range {sp.range_ratio:.3g}, exponent {sp.exponent:.3g}, MVC drive "

@@ -255,19 +255,29 @@ def fit_p0_spread_to_recording(cal: Calibration, muscle: HumanMuscle, recorded_t
     """The P0 spread fitted to one recording: the one whose units a decomposition would identify
     (``identification.identified_ks``: the recording's count of the active units of highest weight in it, depths
     from ``seeds``, ``model``'s parameters) have the recruitment thresholds (% MVC, on the calibration ramp)
-    closest to the recorded ones.  Active: the units recruited at or below ``peak_percent`` (% MVC, the largest
-    force the recording reaches): a pool that follows the force recruits every unit whose threshold a fluctuation
-    of the plateau reaches, and with the PIC's hysteresis those units go on firing on the plateau.  Given the
-    recorded force (``recorded_force_percent``, % MVC, sampled every ``force_sample_s`` s), each unit's time
-    discharging in the identification (``identify``'s ``active_s``, which counts when ``model.activity_exponent``
-    is above 0) is the time that force stays at or above the unit's threshold; without it every active unit counts
-    alike.  Range ratios
-    1.5-100 (unit forces span about 100-fold in human muscles: Enoka & Fuglevand 2001) and exponents 0.25-30,
-    log-spaced.  The distance is a KS distance of a few tens of units, noisy
-    from one spread to the next, so the spread chosen is the one whose distance averaged with its grid neighbours
-    (one step of range and of exponent either way) is smallest: a fit that holds when the spread changes a little,
-    not a lone grid point where the sampled identification happens to line up.  Returns (the spread, its own mean
-    KS distance); InputError when no spread's active units stand for as many muscle units as were recorded."""
+    closest to the recorded ones (``spread_distances``, whose arguments these are), chosen by ``best_spread``.
+    Returns (the spread, its own mean KS distance)."""
+    grid, d = spread_distances(cal, muscle, recorded_thresholds_percent, peak_percent, model=model, seeds=seeds,
+                               recorded_force_percent=recorded_force_percent, force_sample_s=force_sample_s)
+    return best_spread(grid, d)
+
+
+def spread_distances(cal: Calibration, muscle: HumanMuscle, recorded_thresholds_percent: np.ndarray,
+                     peak_percent: float, *, model: IdentificationModel | None = None,
+                     seeds: Sequence[int] = FIT_SEEDS, recorded_force_percent: np.ndarray | None = None,
+                     force_sample_s: float | None = None) -> tuple[list[list[P0Spread | None]], np.ndarray]:
+    """Every spread of the fit's grid (range ratios x exponents; None where the ramp never reaches its MVC) and the
+    mean KS distance (``identification.identified_ks`` over ``seeds``) between the recruitment thresholds of the
+    units a decomposition would identify with it and the recorded ones (inf where too few units are active).
+    Active: the units recruited at or below ``peak_percent`` (% MVC, the largest force the recording reaches): a
+    pool that follows the force recruits every unit whose threshold a fluctuation of the plateau reaches, and with
+    the PIC's hysteresis those units go on firing on the plateau.  Given the recorded force
+    (``recorded_force_percent``, % MVC, sampled every ``force_sample_s`` s), each unit's time discharging in the
+    identification (``identify``'s ``active_s``, which counts when ``model.activity_exponent`` is above 0) is the
+    time that force stays at or above the unit's threshold; without it every active unit counts alike.  Range
+    ratios 1.5-100 (unit forces span about 100-fold in human muscles: Enoka & Fuglevand 2001) and exponents
+    0.25-30, log-spaced.  InputError when no spread's active units stand for as many muscle units as were
+    recorded."""
     rec = np.asarray(recorded_thresholds_percent, float).ravel()
     rec = rec[np.isfinite(rec)]
     if not rec.size:
@@ -299,6 +309,18 @@ def fit_p0_spread_to_recording(cal: Calibration, muscle: HumanMuscle, recorded_t
     if not np.isfinite(d).any():
         raise InputError(f"pool {cal.definition.name!r}: no P0 spread recruits enough units below "
                          f"{peak_percent:g} % MVC for the recording's {rec.size} units")
+    return grid, d
+
+
+def best_spread(grid: list[list[P0Spread | None]], distances: np.ndarray) -> tuple[P0Spread, float]:
+    """The spread of ``grid`` (``spread_distances``) whose distance averaged with its grid neighbours (one step of
+    range and of exponent either way) is smallest, and its own distance.  The distance is a KS distance of a few
+    tens of units, noisy from one spread to the next, so the choice is a fit that holds when the spread changes a
+    little, not a lone grid point where the sampled identification happens to line up.  ``distances`` may be a sum
+    over several recordings of one muscle (one spread for all of them)."""
+    d = np.asarray(distances, float)
+    if d.shape != (len(grid), len(grid[0]) if grid else 0) or not np.isfinite(d).any():
+        raise InputError(f"best_spread needs a finite distance for some spread of the {len(grid)}-row grid")
     i, j = np.unravel_index(np.argmin(_neighbourhood_mean(d)), d.shape)
     best = grid[i][j]
     assert best is not None

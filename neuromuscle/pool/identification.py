@@ -26,7 +26,11 @@ early-recruited, smaller ones (Caillet et al. 2023).  The model:
   found less often than their size says.  On five of the eight recordings of ``networks/pool_vs_recorded.py``
   E = 1 moved the failures rather than removing them (docs/validation/pools_vs_recorded.md), so the default is 0;
 - **count**: the decomposition identifies the ``count`` active units of highest weight, ``count`` being the number
-  of units the recording itself identified (a count, not which units nor their thresholds).
+  of units the recording itself identified (a count, not which units nor their thresholds);
+- **selection** (``selection``): ``"ranked"`` (default) takes those of highest weight; ``"sampled"`` draws them one
+  after another without replacement, each with probability proportional to its weight (a decomposition whose
+  random initialisations converge to a unit as often as its share of the signal's energy).  On the eight recordings
+  of ``networks/pool_vs_recorded.py`` it fits no better than ranking (docs/validation/pools_vs_recorded.md).
 
 A model pool has fewer units than the muscle: each model unit stands for ``motor_units / n`` units of the muscle
 (``copies_per_unit``), each copy with its own depth, drawn from ``seed``; the identified sample is ``count`` copies,
@@ -69,18 +73,21 @@ ACTIVITY_EXPONENT = 0.0
 DEFAULT_SEED = 0
 #: The depth attenuations ``estimate_depth_attenuation`` tries by default (1).
 DEPTH_GRID = np.arange(0.0, 12.001, 0.25)
+#: How the identified units are chosen among the active ones (module docstring).
+SELECTIONS = ("ranked", "sampled")
 
 
 @dataclass(frozen=True)
 class IdentificationModel:
     """The identification model's parameters (module docstring): ``depth_attenuation`` (1, >= 0),
-    ``size_exponent`` (1, >= 0), ``activity_exponent`` (1, >= 0; 0: the time discharging plays no part) and the
-    ``seed`` of the depths."""
+    ``size_exponent`` (1, >= 0), ``activity_exponent`` (1, >= 0; 0: the time discharging plays no part), the
+    ``seed`` of the depths (and of the draws) and the ``selection`` (one of ``SELECTIONS``)."""
 
     depth_attenuation: float = DEPTH_ATTENUATION
     size_exponent: float = SIZE_EXPONENT
     seed: int = DEFAULT_SEED
     activity_exponent: float = ACTIVITY_EXPONENT
+    selection: str = "ranked"
     source: str = field(default="weight ~ P0 ** size_exponent * exp(-depth_attenuation * depth) * "
                                 "(time discharging) ** activity_exponent; depth_attenuation estimated on S1_30_256 "
                                 "with activity_exponent 0", compare=False)
@@ -92,6 +99,8 @@ class IdentificationModel:
         object.__setattr__(self, "seed", seed_value(self.seed))
         object.__setattr__(self, "activity_exponent", nonnegative_number("activity_exponent",
                                                                          self.activity_exponent))
+        if self.selection not in SELECTIONS:
+            raise InputError(f"selection must be one of {', '.join(SELECTIONS)}, got {self.selection!r}")
 
     def provenance(self) -> dict[str, Any]:
         """JSON-ready parameters and seed."""
@@ -163,11 +172,11 @@ def _discharging(active_s: Sequence[float] | np.ndarray | None, n: int) -> np.nd
 def identify(p0_N: Sequence[float] | np.ndarray, active: Sequence[bool] | np.ndarray, count: int, *,
              motor_units: int, model: IdentificationModel | None = None,
              active_s: Sequence[float] | np.ndarray | None = None) -> Identification:
-    """The ``count`` muscle units of highest energy in the recording among the copies of the ``active`` model
-    units (module docstring).  ``p0_N``: every model unit's P0 (N, > 0); ``active``: which of them fire enough to
-    be found; ``active_s``: each unit's time discharging in the trial (s; None: every active unit alike);
-    ``motor_units``: the muscle's number of motor units.  InputError when the active units stand for fewer than
-    ``count`` muscle units."""
+    """The ``count`` muscle units of highest weight in the recording among the copies of the ``active`` model
+    units, or ``count`` drawn in proportion to their weights (``model.selection``; module docstring).
+    ``p0_N``: every model unit's P0 (N, > 0); ``active``: which of them fire enough to be found; ``active_s``:
+    each unit's time discharging in the trial (s; None: every active unit alike); ``motor_units``: the muscle's
+    number of motor units.  InputError when the active units stand for fewer than ``count`` muscle units."""
     m = model or IdentificationModel()
     try:
         p0 = np.asarray(p0_N, dtype=float)
@@ -184,7 +193,8 @@ def identify(p0_N: Sequence[float] | np.ndarray, active: Sequence[bool] | np.nda
     time_s = _discharging(active_s, p0.size)
     copies = copies_per_unit(p0.size, motor_units)
     owner = np.repeat(np.arange(p0.size), copies)
-    depth = np.random.default_rng(m.seed).random(owner.size)         # every copy's depth, active or not
+    rng = np.random.default_rng(m.seed)
+    depth = rng.random(owner.size)                                    # every copy's depth, active or not
     candidates = np.flatnonzero(act[owner])
     if count > candidates.size:
         raise InputError(f"the recording identified {count} units but the pool's {int(act.sum())} active units "
@@ -193,7 +203,13 @@ def identify(p0_N: Sequence[float] | np.ndarray, active: Sequence[bool] | np.nda
                          depth_attenuation=m.depth_attenuation)
     if m.activity_exponent:
         energy = energy * time_s[owner[candidates]] ** m.activity_exponent
-    chosen = candidates[np.argsort(-energy, kind="stable")[:count]]
+    if m.selection == "sampled":
+        # drawn without replacement in proportion to the weights: the highest of log(weight) + a Gumbel variable
+        with np.errstate(divide="ignore"):
+            key = np.log(energy) + rng.gumbel(size=energy.size)
+    else:
+        key = energy
+    chosen = candidates[np.argsort(-key, kind="stable")[:count]]
     identified = np.bincount(owner[chosen], minlength=p0.size)
     return Identification(m, int(count), int(motor_units), copies, identified)
 

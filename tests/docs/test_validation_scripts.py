@@ -74,3 +74,17 @@ def test_compare_published_briefly():
     for row in spread[1:]:  # the package's identically driven units are identical
         low, high = numbers(row[1].replace(" - ", " "))
         assert low == high, row
+
+
+@pytest.mark.slow
+def test_identification_variants_script_quick_prints_the_table():
+    """Every variant's row, a distance in [0, 1] for each file, and the one spread for subject S1 on both files."""
+    out = _run(str(SCRIPTS / "identification_variants.py"), "--quick")
+    (table,) = markdown_tables(out)
+    assert table[0] == ["variant", "S1_30_36L", "S1_50_64L"]
+    names = [r[0] for r in table[1:]]
+    assert "ranked, a 1.75" in names and "sampled, a 1.75" in names and len(names) == 14
+    assert sum(n.startswith("one spread for S1") for n in names) == 3
+    for row in table[1:]:
+        assert all(0.0 <= numbers(c)[0] <= 1.0 for c in row[1:])
+

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from neuromuscle.errors import InputError
-from neuromuscle.pool.follow_force import (HUMAN_MUSCLES, Calibration, calibrate, fit_p0_spread_to_recording,
-                                          p0_spread, time_above_s)
+from neuromuscle.pool.follow_force import (HUMAN_MUSCLES, Calibration, best_spread, calibrate,
+                                          fit_p0_spread_to_recording, p0_spread, spread_distances, time_above_s)
 from neuromuscle.pool.identification import IdentificationModel, identify
 from neuromuscle.pool.result import PoolResult
 
@@ -71,6 +71,32 @@ def test_a_spread_fitted_to_a_recording_comes_back_near_the_one_that_made_it():
         fit_p0_spread_to_recording(cal, TA, [np.nan], 30.0)
     with pytest.raises(InputError, match="peak_percent"):
         fit_p0_spread_to_recording(cal, TA, recorded, float("nan"))
+
+
+def test_one_spread_fitted_to_two_recordings_of_one_muscle():
+    """Two decompositions of one pool (different counts, different depth seeds): the spread that minimises the sum
+    of their distances comes back within one grid step of the truth; one recording's distances alone give its own
+    fit; a grid of no finite distance is refused."""
+    cal = _made_up(TA.definition(20), n=20, top=3.0)
+    model = IdentificationModel(depth_attenuation=2.0)
+    ratios, powers = np.geomspace(1.5, 100.0, 37), np.geomspace(0.25, 30.0, 23)
+    truth = cal.spread_for(ratios[20], powers[11], TA)
+    active = truth.thresholds_percent <= 30.0
+    recordings, distances = [], []
+    for count, seed in ((80, 7), (30, 8)):
+        found = identify(truth.p0_N(cal.rank), active, count, motor_units=400,
+                         model=IdentificationModel(2.0, seed=seed))
+        recordings.append(np.repeat(truth.thresholds_percent[found.units], found.weights))
+        grid, d = spread_distances(cal, TA, recordings[-1], 30.0, model=model, seeds=[7, 8])
+        distances.append(d)
+    fit, d = best_spread(grid, distances[0] + distances[1])
+    near = np.argmin(abs(ratios - fit.range_ratio)), np.argmin(abs(powers - fit.exponent))
+    assert abs(near[0] - 20) <= 1 and abs(near[1] - 11) <= 1 and d < 1.0      # d: the two distances' sum
+    alone = fit_p0_spread_to_recording(cal, TA, recordings[0], 30.0, model=model, seeds=[7, 8])
+    own = best_spread(grid, distances[0])
+    assert (own[0].range_ratio, own[0].exponent, own[1]) == (alone[0].range_ratio, alone[0].exponent, alone[1])
+    with pytest.raises(InputError, match="finite distance"):
+        best_spread(grid, np.full(distances[0].shape, np.inf))
 
 
 def test_time_above_a_level():

@@ -88,6 +88,22 @@ def test_units_discharging_longer_are_identified_first():
                     active_s=[30.0, 20.0]).units.tolist() == [1]    # 2.25 * 20 > 30
 
 
+def test_sampled_units_are_drawn_in_proportion_to_their_weights():
+    """Sampled: one unit of two drawn with the probability of its share of the energy (3:1 here), over many seeds;
+    the depths are those of the ranked choice with the same seed; a large sample reaches smaller units than the
+    ranked one."""
+    flat = IdentificationModel(depth_attenuation=0.0, selection="sampled")
+    first = [identify([1.0, 3.0 ** 0.5], np.array([True, True]), 1, motor_units=2,
+                      model=replace(flat, seed=s)).units[0] for s in range(4000)]
+    assert np.mean(first) == pytest.approx(0.75, abs=0.03)         # 3 / (1 + 3), 4000 draws: sd 0.007
+    ranked = identify(P0, ACTIVE, 60, motor_units=400, model=IdentificationModel(depth_attenuation=0.0))
+    sampled = identify(P0, ACTIVE, 60, motor_units=400, model=replace(flat, seed=2))
+    assert sampled.weights.sum() == 60 and sampled.units.min() < ranked.units.min()
+    assert np.mean(sampled.units) > 20                             # still leaning to the large units
+    with pytest.raises(InputError, match="selection"):
+        IdentificationModel(selection="largest")
+
+
 @pytest.mark.parametrize("active_s", [[1.0], [1.0, -1.0], [1.0, float("nan")], ["a", "b"]])
 def test_bad_times_discharging_are_refused(active_s):
     with pytest.raises(InputError, match="active_s"):
