@@ -25,6 +25,7 @@ The units are not matched one to one.
 
 Run: python networks/pool_vs_recorded.py --out DIR [--file F.mat ...] [--units N] [--corrections K] [--full]
                                           [--seed S] [--depth-attenuation A] [--activity-exponent E]
+                                          [--selection ranked|sampled]
                                           [--motoneurons default|human]
                                           [--neuromodulation NM] [--noise-uS S]
                                           [--set NAME=VALUE ...] [--scale NAME=FACTOR ...]
@@ -53,7 +54,8 @@ from neuromuscle.pool.discharges import RecordedDischarges, load_caillet
 from neuromuscle.pool.follow_force import (FIT_SEEDS, HUMAN_MUSCLES, Calibration, P0Spread, calibrate,
                                           fit_p0_spread_to_recording, run_drive)
 from neuromuscle.pool.follow_force import follow as follow_force
-from neuromuscle.pool.identification import ACTIVITY_EXPONENT, DEFAULT_SEED, DEPTH_ATTENUATION, IdentificationModel
+from neuromuscle.pool.identification import (ACTIVITY_EXPONENT, DEFAULT_SEED, DEPTH_ATTENUATION, SELECTIONS,
+                                              IdentificationModel)
 from neuromuscle.pool.motoneuron import PROFILES, motoneuron_parameters, motoneuron_profile, parse_settings
 from neuromuscle.pool.recorded_comparison import Comparison, compare_discharges
 from neuromuscle.reports.figures import label_axes, legend, new_figure, save_figure, set_title
@@ -251,6 +253,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--activity-exponent", type=float, default=ACTIVITY_EXPONENT,
                     help="exponent of a unit's time discharging in its weight in the recording (identification; "
                          "default 0: size and depth alone)")
+    ap.add_argument("--selection", choices=SELECTIONS, default="ranked",
+                    help="how the identification chooses among the active units: those of highest weight (ranked) "
+                         "or drawn in proportion to their weights (sampled)")
     ap.add_argument("--depth-attenuation", type=float, default=DEPTH_ATTENUATION,
                     help="ln of a unit's surface-energy ratio, muscle surface / deep face (identification)")
     ap.add_argument("--motoneurons", choices=tuple(PROFILES), default="default",
@@ -306,7 +311,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                                                                    for x in (".png", ".json", "_pool.h5"))])
     n = a.units or (80 if a.full else 40)
     ident_model = IdentificationModel(depth_attenuation=a.depth_attenuation, seed=a.seed,
-                                      activity_exponent=a.activity_exponent)
+                                      activity_exponent=a.activity_exponent, selection=a.selection)
     t0 = time.time()
     calibrations: dict[str, tuple[Calibration, P0Spread]] = {}
     rows = []

@@ -104,8 +104,9 @@ def test_pool_vs_recorded_with_the_spread_fitted_to_the_file(tmp_path, network_s
     script = network_script("pool_vs_recorded")
     row = script.main(["--out", str(tmp_path / "out"), "--units", "12", "--corrections", "0", "--dt-ms", "0.05",
                        "--p0-spread", "recording", "--motoneurons", "human", "--set", "g_ks_S_per_cm2=0.01",
-                       "--scale", "ca_decay_ms=2", "--calibration-top-uS", "1.6"])["files"][0]
+                       "--scale", "ca_decay_ms=2", "--calibration-top-uS", "1.6", "--selection", "sampled"])["files"][0]
     pool = row["pool"]
+    assert row["identification"]["selection"] == "sampled"         # the units drawn in proportion to their weights
     # the human profile, with --set replacing one of its values and --scale multiplying its AHP factor
     assert pool["motoneurons"] == "human" and pool["neuromodulation"] == 0.7
     assert pool["motoneuron_overrides"] == {"g_km_S_per_cm2": 0.002, "g_ks_S_per_cm2": 0.01}
