@@ -13,8 +13,8 @@ their distances.
 Run from the repository root:  python docs/validation/identification_variants.py [--quick]
 The calibrations are those of ``networks/pool_vs_recorded.py --units 120 --motoneurons human
 --calibration-top-uS 1.6 --calibration-ramp-ms 40000`` (about two minutes a muscle); every fit then takes a few
-seconds (about 12 min in all on one core).  --quick: two TA files, 30 units, dt 0.05 ms (a check that the script
-runs, not the table).  Prints Markdown.
+seconds (26 min in all for the page's table, on one of two cores shared with two diagnoses).  --quick: two TA files,
+30 units, dt 0.05 ms (a check that the script runs, not the table).  Prints Markdown.
 """
 
 from __future__ import annotations
