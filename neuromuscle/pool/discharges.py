@@ -8,9 +8,12 @@
 File layout (MATLAB .mat, ``scipy.io.loadmat``): ``MUPulses`` a 1 x n cell of discharge sample indices (one row a
 unit, at ``fsamp`` Hz, counted from 1 as MATLAB does: sample k is at (k - 1) / fsamp s), ``fsamp`` the sampling rate
 (Hz), ``ref_signal`` the force transducer at ``fsamp`` (arbitrary units).  The force is normalised to % MVC: its
-baseline (median before the first discharge) is 0 and its plateau (median of the samples above 80 % of the
-baseline-to-99th-percentile span) is the trial's target level.  Units are put in recruitment order: by the
-normalised force at their first discharge (ties by the time of that discharge).  Times in ms.
+baseline (the muscle at rest: the median of the samples before the first discharge that lie within
+:data:`REST_BAND_FRACTION` of the force's span above the lowest of them, their 1st percentile, so that a
+decomposition whose first unit is recruited late in the ramp does not lift it) is 0 and its plateau (median of the
+samples above 80 % of the baseline-to-99th-percentile span) is the trial's target level.  Units are put in
+recruitment order: by the normalised force at their first discharge (ties by the time of that discharge).  Times in
+ms.
 """
 
 from __future__ import annotations
@@ -27,6 +30,9 @@ from ..validate import finite_number, positive_number, time_order_problem
 
 #: Fraction of the baseline-to-99th-percentile span above which force samples count as the plateau.
 PLATEAU_FRACTION = 0.8
+#: Width of the resting band, as a fraction of the span from the lowest force before the first discharge (its 1st
+#: percentile) to the 99th percentile: the baseline is the median of the samples before the first discharge within it.
+REST_BAND_FRACTION = 0.05
 #: Force (% MVC) at or below which the muscle counts as at rest (:meth:`RecordedDischarges.rest_times_ms`).
 REST_PERCENT_MVC = 1.0
 #: Time (ms) a window taken from rest keeps before the force leaves rest and after it returns.
@@ -169,12 +175,16 @@ def _pulses(path: Path, cell: np.ndarray, fsamp: float, n_samples: int) -> list[
 
 
 def normalise_force(path: Path, raw: np.ndarray, first_sample: int, level: float) -> np.ndarray:
-    """``raw`` force (a.u.) in % MVC: baseline (median of samples before ``first_sample``) at 0, plateau (see the
-    module docstring) at ``level``."""
+    """``raw`` force (a.u.) in % MVC: baseline (the muscle at rest, see the module docstring) at 0, plateau at
+    ``level``."""
     if first_sample < 1:
         raise InputError(f"{path}: field 'ref_signal' has no sample before the first discharge (no baseline)")
-    base = float(np.median(raw[:first_sample]))
+    pre = raw[:first_sample]
+    floor = float(np.percentile(pre, 1.0))
     top = float(np.percentile(raw, 99.0))
+    if top <= floor:
+        raise InputError(f"{path}: field 'ref_signal' never rises above its baseline {floor:g}: no contraction")
+    base = float(np.median(pre[pre <= floor + REST_BAND_FRACTION * (top - floor)]))
     if top <= base:
         raise InputError(f"{path}: field 'ref_signal' never rises above its baseline {base:g}: no contraction")
     plateau = float(np.median(raw[raw >= base + PLATEAU_FRACTION * (top - base)]))
