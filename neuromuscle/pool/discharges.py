@@ -184,9 +184,7 @@ def normalise_force(path: Path, raw: np.ndarray, first_sample: int, level: float
     top = float(np.percentile(raw, 99.0))
     if top <= floor:
         raise InputError(f"{path}: field 'ref_signal' never rises above its baseline {floor:g}: no contraction")
-    base = float(np.median(pre[pre <= floor + REST_BAND_FRACTION * (top - floor)]))
-    if top <= base:
-        raise InputError(f"{path}: field 'ref_signal' never rises above its baseline {base:g}: no contraction")
+    base = float(np.median(pre[pre <= floor + REST_BAND_FRACTION * (top - floor)]))  # below top: the band is narrower
     plateau = float(np.median(raw[raw >= base + PLATEAU_FRACTION * (top - base)]))
     return level * (raw - base) / (plateau - base)
 
