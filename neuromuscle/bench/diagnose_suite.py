@@ -232,6 +232,8 @@ def _evidence_row(ev: Evidence) -> dict[str, Any]:
             "quiet_chi2_gain": _rounded(ev.quiet_chi2_gain), "quiet_p05": _rounded(ev.quiet_p05),
             "structured_before": len(ev.structured_before), "failed": sorted(ev.failed), "why": dict(ev.failed),
             "cross_validated_trials": list(ev.crossed),
+            "beyond_resize_chi2_gain": _rounded(ev.beyond_resize_chi2_gain),
+            "resize_chi2_gain": _rounded(ev.resize_chi2_gain),
             "trials": {i: {"gain": round(t["gain"], 1), "excess": round(t["excess"], 1),
                            "nrmse": [round(t["nrmse_before"], 3), round(t["nrmse_after"], 3)],
                            **({"window_chi2_gain": round(ev.window_trials[i]["chi2_gain"], 1)}

@@ -16,6 +16,8 @@ s_k and rho_k its AR(1) noise (:func:`.residuals.noise_level`), n_k samples, n_e
   :mod:`.selection`), each model's residual there measured from its own level (the isometric misfit at a hold's
   length, 0 elsewhere); when the model before already fits the cause's telling trials to noise, the window is
   where its extension acts, and the gain, penalty and bootstrap on those **quiet** telling trials are kept too;
+* beside the causes named before it, the part of the held-out chi-square gain that remains **beyond a resize** of
+  those causes, trial by trial (:mod:`.resize`);
 * the **calibration** chi-square gain of the candidate's fit over the model before it and its BIC penalty (both
   fitted on that chi-square, so this is a likelihood ratio).
 
@@ -81,6 +83,8 @@ class Evidence:
     quiet_trials: tuple[str, ...] = ()
     baseline_excess: float | None = None
     crossed: tuple[str, ...] = ()
+    resize_chi2_gain: float | None = None
+    beyond_resize_chi2_gain: float | None = None
     per_trial: dict[str, dict[str, float]] = field(default_factory=dict)
     failed: dict[str, str] = field(default_factory=dict)
 
@@ -113,6 +117,15 @@ class Evidence:
         return self.gain / self.baseline_excess if self.baseline_excess else None
 
     @property
+    def beyond_resize_share(self) -> float | None:
+        """The share of the held-out chi-square gain that remains beyond a trial-by-trial resize of the causes
+        named before the candidate (:mod:`.resize`); None when none of them can be resized or the gain is not
+        positive."""
+        if self.beyond_resize_chi2_gain is None or self.chi2_gain <= 0:
+            return None
+        return self.beyond_resize_chi2_gain / self.chi2_gain
+
+    @property
     def passed(self) -> bool:
         return not self.failed
 
@@ -136,6 +149,9 @@ class Evidence:
             parts.append(f"where the cause is {'defined' if self.window_how == 'defined' else 'acting'} "
                          f"({len(self.window_trials)} held-out trials) chi2 gain {self.window_chi2_gain:.1f} vs "
                          f"{self.window_penalty:.1f}, bootstrap 5th percentile {self.window_p05:.4g}")
+        if self.beyond_resize_chi2_gain is not None:
+            parts.append(f"beyond a trial-by-trial resize of the causes before it chi2 gain "
+                         f"{self.beyond_resize_chi2_gain:.1f} (the resize alone {self.resize_chi2_gain:.1f})")
         parts.append("passes every rule" if self.passed else
                      "FAILS " + "; ".join(f"{k}: {v}" for k, v in self.failed.items()))
         return "; ".join(parts)
@@ -155,6 +171,7 @@ class Evidence:
                 "rest_trend_trials": self.rest_left, "trials_with_rest": self.n_rest, "score": self.score,
                 "baseline_excess": self.baseline_excess, "share_of_baseline_excess": self.share_of_baseline_excess,
                 "cross_validated_trials": list(self.crossed),
+                "resize_chi2_gain": self.resize_chi2_gain, "beyond_resize_chi2_gain": self.beyond_resize_chi2_gain,
                 "per_trial": self.per_trial, "passed": self.passed, "failed": self.failed}
 
 

@@ -8,7 +8,8 @@ Why these rules.  A held-out gain beyond noise alone does not name a cause: a pr
 in ways the calibration trials cannot pin down, and a flexible extension takes up some of that misfit on the
 held-out trials too.  The rules ask, beyond the gain, that there be something to explain, that the extension's
 effect be identified, that the gain be robust and material, and that it show where the cause acts, with nothing
-left where no cause of the catalogue acts (the muscle at rest).
+left where no cause of the catalogue acts (the muscle at rest); and of a cause judged beside causes named before it,
+that most of its gain be more than those causes would give with a size of their own in each trial (:mod:`.resize`).
 """
 
 from __future__ import annotations
@@ -25,6 +26,9 @@ MIN_EXCESS_REMOVED_DIFFUSE = 0.5
 MIN_EXCESS_REMOVED = 0.25
 #: ... or of the error above noise on the held-out trials where it is judged (rule R7's trials).
 MIN_WINDOW_EXCESS_REMOVED = 0.5
+#: R8: the least share of its held-out chi-square gain a later cause keeps beyond a trial-by-trial resize of the
+#: causes named before it.
+MIN_BEYOND_RESIZE = 0.5
 #: R6: a model leaves structure at rest when at least max(REST_MIN_TRIALS, REST_MIN_FRACTION x trials with a
 #: rest window) trials trend at rest with |z| > REST_Z.
 REST_Z = 3.0
@@ -130,6 +134,15 @@ def _where_it_acts(e: Evidence) -> str | None:
             f"{e.window_penalty:.1f}, bootstrap 5th percentile {e.window_p05:.3g}")
 
 
+def _beyond_resize(e: Evidence) -> str | None:
+    beyond = e.beyond_resize_chi2_gain
+    if beyond is None or beyond >= MIN_BEYOND_RESIZE * e.chi2_gain:
+        return None
+    return (f"of its held-out chi2 gain {e.chi2_gain:.1f}, {beyond:.1f} remains beyond a trial-by-trial resize of "
+            f"the causes named before it (which alone gains {e.resize_chi2_gain:.1f}); at least "
+            f"{100 * MIN_BEYOND_RESIZE:.0f} % must")
+
+
 RULES: tuple[Rule, ...] = (
     Rule("R0", "something to explain",
          f"under the model before it, a held-out trial has a residual RMS above {STRUCTURE_RATIO:g} noise sd, or "
@@ -167,6 +180,13 @@ RULES: tuple[Rule, ...] = (
          f"removes more than {100 * MIN_EXCESS_REMOVED_DIFFUSE:.0f} % of the held-out error above noise (as R0 asks "
          "of a diffuse gain) and fits the telling trials no worse than the BIC penalty",
          _where_it_acts),
+    Rule("R8", "more than a resize of the causes before it",
+         f"at least {100 * MIN_BEYOND_RESIZE:.0f} % of the held-out chi-square gain remains when the causes named "
+         "before the candidate may each take another size in every held-out trial, in the model before and in the "
+         "candidate's alike: the first cause named takes its effect's average size, and what its form leaves in "
+         "each trial must not name a second cause.  A static property of the muscle (length-dependent activation) "
+         "is neither resized nor asked: its effect is a size that differs between trials at different lengths",
+         _beyond_resize),
 )
 
 

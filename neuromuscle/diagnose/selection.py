@@ -71,6 +71,7 @@ from .models import (CANDIDATE_TOLERANCE, MODEL_MAX_ITERATIONS, OPTIONS, FittedM
                      extension_defaults, fit_model, simulate_all)
 from .phases import TrialPhases
 from .reach import heldout_reach
+from .resize import beyond_resize
 from .residuals import Noise, noise_level, rest_trend_z
 from .rules import REST_Z, apply_rules
 from .screening import Screen, screen
@@ -194,6 +195,7 @@ class Context:
     candidates: dict[str, FittedModel] = field(default_factory=dict)
     reach: bool = False
     reaches: dict[tuple, FittedModel] = field(default_factory=dict)
+    contributions: dict[tuple, dict[str, dict[str, np.ndarray]]] = field(default_factory=dict)
 
     @property
     def trials(self) -> list[Trial]:
@@ -317,6 +319,26 @@ def reached(ctx: Context, model: FittedModel, free: Sequence[str] | None = None)
     return ctx.reaches[key]
 
 
+def contributions(ctx: Context, model: FittedModel, but: str) -> dict[str, dict[str, np.ndarray]]:
+    """The held-out forces (N, by cause then trial) that each cause of ``model`` other than ``but`` adds to it:
+    its forces less those with that cause's extension neutral; only causes whose size may differ between trials
+    (not ``Extension.static``), the numbers rule R8 resizes (:mod:`.resize`).  Kept per model and held-out set.
+    A static candidate is not judged by R8 (:func:`judge`): its effect is itself a size that differs between trials
+    at different lengths, which a trial-by-trial resize of any cause before it can mimic."""
+    named = [c for c in model.extensions if c != but and not extension_class(c).static]
+    held = [ctx.data.trials[i] for i in ctx.heldout]
+    out = {}
+    for c in named:
+        key = (model.name, model.cost, c, tuple(ctx.heldout))
+        if key not in ctx.contributions:
+            ext = extension_class(c)
+            neutral = {ext.qualified(p.name): p.neutral for p in ext.parameters if p.neutral is not None}
+            off = simulate_all(model.parameters.with_values(neutral), held, model.extensions, pool=ctx.pool)
+            ctx.contributions[key] = {i: model.simulated[i] - off[i] for i in ctx.heldout}
+        out[c] = ctx.contributions[key]
+    return out
+
+
 def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
           telling_heldout: Sequence[str]) -> Evidence:
     """The evidence of candidate ``name`` (fitted: ``model``) against ``before`` (with ``ctx.reach``: what each
@@ -324,6 +346,7 @@ def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
     ext = extension_class(name)
     own = tuple(ext.qualified(p.name) for p in ext.parameters)
     fitted = model
+    resizable = {} if ext.static else contributions(ctx, before, name)
     before, model = reached(ctx, before), reached(ctx, model, tuple(dict.fromkeys(before.free + own)))
     n_par = len(ext.parameters)
     identified, calib = calibration_side(ctx, name, before, model)
@@ -336,6 +359,9 @@ def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
     have = {i: z for i, z in rest.items() if z is not None}
     ev.rest_left = [i for i, z in have.items() if abs(z) > REST_Z]
     ev.n_rest = len(have)
+    if resizable:
+        ev.resize_chi2_gain, ev.beyond_resize_chi2_gain = beyond_resize(
+            ctx.heldout, ctx.measured, before.simulated, model.simulated, ctx.noise, resizable)
     apply_rules(ev)
     return ev
 

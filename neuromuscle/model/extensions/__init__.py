@@ -63,8 +63,9 @@ class Extension(Component):
     class also holds the cause's facts the diagnosis reads: what the data show (``shows``), the trials that can
     show it (``telling``), the explanatory variable its residual follows (``variable``, a name of
     ``neuromuscle.diagnose.residuals.VARIABLES``), whether it acts through the movement itself (``moves``) or is
-    defined by the force after an active stretch (+1) or shortening (-1) (``after``), the baseline parameters
-    it interacts with (``interacts``) and its section of the extensions page (``docs``)."""
+    defined by the force after an active stretch (+1) or shortening (-1) (``after``), whether it is a static
+    property of the muscle whose size cannot differ between trials at one length (``static``), the baseline
+    parameters it interacts with (``interacts``) and its section of the extensions page (``docs``)."""
 
     name: ClassVar[str]
     targets: ClassVar[Mapping[str, str]] = {}
@@ -73,6 +74,7 @@ class Extension(Component):
     variable: ClassVar[str] = "length"
     moves: ClassVar[bool] = False
     after: ClassVar[int] = 0
+    static: ClassVar[bool] = False
     interacts: ClassVar[tuple[str, ...]] = ACTIVATION_PARAMETERS
     docs: ClassVar[str] = "reference/extensions.md"
 

@@ -22,6 +22,10 @@ class LengthDependentActivation(SwitchExtension):
     telling = Telling("isometric stimulated trials more than 2 mm from the optimum", moving=False,
                       min_length_offset_mm=2.0)
     variable = "length"
+    #: Its fitted line (two slopes, two intercepts) already gives the effect a size at each length a file holds
+    #: isometric trials at, and trials at one length cannot differ in it: rule R8 neither resizes it nor asks it
+    #: to be more than a resize of the causes before it.
+    static = True
     interacts = LENGTH_PARAMETERS + ACTIVATION_PARAMETERS
     name = "length_dependent_activation"
     namespace = KimCalcium.namespace
