@@ -134,6 +134,12 @@ def extension_defaults(name: str) -> dict[str, float]:
     return {ext.qualified(p.name): p.default for p in ext.parameters}
 
 
+def extension_neutral(name: str) -> dict[str, float]:
+    """Extension ``name``'s effect parameters at their neutral values (qualified names): the extension inert."""
+    ext = extension_class(name)
+    return {ext.qualified(p.name): p.neutral for p in ext.parameters if p.neutral is not None}
+
+
 def chi2_weights(trials: Sequence[Trial], noise: Mapping[str, Noise]) -> list[float]:
     """Each trial's weight (1/N^2) in the "sse" objective that makes a fit's cost the rules' chi-square."""
     return [noise[t.trial_id].chi2_weight for t in trials]

@@ -68,7 +68,7 @@ from .baseline import FORCE_PARAMETERS
 from .causes import causes, isometric_level, telling_trials, where_defined
 from .evidence import Evidence, WindowSamples, excess, gather, quiet_window
 from .models import (CANDIDATE_TOLERANCE, MODEL_MAX_ITERATIONS, OPTIONS, FittedModel, extension_class,
-                     extension_defaults, fit_model, simulate_all)
+                     extension_defaults, extension_neutral, fit_model, simulate_all)
 from .phases import TrialPhases
 from .reach import heldout_reach
 from .resize import beyond_resize
@@ -277,7 +277,7 @@ def _windows(ctx: Context, name: str, before: FittedModel, model: FittedModel, t
     if out and not quiet_window(out, measured, before.simulated, ctx.noise):
         return out, None
     defined, out = out, {}
-    neutral = {ext.qualified(p.name): p.neutral for p in ext.parameters if p.neutral is not None}
+    neutral = extension_neutral(name)
     held = [ctx.data.trials[i] for i in ctx.heldout]
     off = simulate_all(model.parameters.with_values(neutral), held, model.extensions, pool=ctx.pool)
     for i in ctx.heldout:
@@ -331,9 +331,8 @@ def contributions(ctx: Context, model: FittedModel, but: str) -> dict[str, dict[
     for c in named:
         key = (model.name, model.cost, c, tuple(ctx.heldout))
         if key not in ctx.contributions:
-            ext = extension_class(c)
-            neutral = {ext.qualified(p.name): p.neutral for p in ext.parameters if p.neutral is not None}
-            off = simulate_all(model.parameters.with_values(neutral), held, model.extensions, pool=ctx.pool)
+            off = simulate_all(model.parameters.with_values(extension_neutral(c)), held, model.extensions,
+                               pool=ctx.pool)
             ctx.contributions[key] = {i: model.simulated[i] - off[i] for i in ctx.heldout}
         out[c] = ctx.contributions[key]
     return out
@@ -372,7 +371,6 @@ def fit_candidate(ctx: Context, name: str, before: FittedModel, screened: Screen
     fit stops above it (its starts far from the data's form and the candidate's iterations spent), it is fitted
     again from the model before itself, the extension at its neutral values, and the better fit is kept: a
     candidate is never judged worse than a model it contains."""
-    ext = extension_class(name)
     fit = dict(extensions=before.extensions + (name,), baseline_free=refitted(ctx, name, *before.extensions),
                calibration=ctx.calibration_trials, all_trials=ctx.trials, noise=ctx.noise, pool=ctx.pool,
                tolerance=CANDIDATE_TOLERANCE, phases=ctx.phases)
@@ -380,7 +378,7 @@ def fit_candidate(ctx: Context, name: str, before: FittedModel, screened: Screen
     floor = calibration_chi2(ctx, before.simulated)
     if model.cost <= floor:
         return model
-    neutral = {ext.qualified(p.name): p.neutral for p in ext.parameters if p.neutral is not None}
+    neutral = extension_neutral(name)
     values = {**extension_defaults(name), **(screened.time_constants if screened is not None else {}), **neutral}
     ctx.say(f"    {name}: its fit ends above the model before's calibration chi-square ({model.cost:.1f} > "
             f"{floor:.1f}); fitting again from the model before, the extension neutral")
