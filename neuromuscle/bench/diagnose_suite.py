@@ -234,6 +234,8 @@ def _evidence_row(ev: Evidence) -> dict[str, Any]:
             "cross_validated_trials": list(ev.crossed),
             "beyond_resize_chi2_gain": _rounded(ev.beyond_resize_chi2_gain),
             "resize_chi2_gain": _rounded(ev.resize_chi2_gain),
+            "bic_penalty": round(ev.bic_penalty, 1), "ranking_chi2_gain": _rounded(ev.ranking_chi2_gain),
+            "ranking_bic_penalty": _rounded(ev.ranking_penalty),
             "trials": {i: {"gain": round(t["gain"], 1), "excess": round(t["excess"], 1),
                            "nrmse": [round(t["nrmse_before"], 3), round(t["nrmse_after"], 3)],
                            **({"window_chi2_gain": round(ev.window_trials[i]["chi2_gain"], 1)}

@@ -19,7 +19,11 @@ s_k and rho_k its AR(1) noise (:func:`.residuals.noise_level`), n_k samples, n_e
 * beside the causes named before it, the part of the held-out chi-square gain that remains **beyond a resize** of
   those causes, trial by trial (:mod:`.resize`);
 * the **calibration** chi-square gain of the candidate's fit over the model before it and its BIC penalty (both
-  fitted on that chi-square, so this is a likelihood ratio).
+  fitted on that chi-square, so this is a likelihood ratio);
+* the **score** that ranks the candidates that pass: held-out dX2 and calibration gain, each less its penalty.  A
+  candidate judged by cross-validation over trials is judged against a model before fitted without some trials,
+  which predicts the held-out trials worse than the step's model before; its score's held-out term is therefore
+  that of its fit on every calibration trial against the step's model before, on the step's held-out trials.
 
 :mod:`.rules` turns these numbers into a decision.
 """
@@ -85,6 +89,8 @@ class Evidence:
     crossed: tuple[str, ...] = ()
     resize_chi2_gain: float | None = None
     beyond_resize_chi2_gain: float | None = None
+    ranking_chi2_gain: float | None = None
+    ranking_penalty: float | None = None
     per_trial: dict[str, dict[str, float]] = field(default_factory=dict)
     failed: dict[str, str] = field(default_factory=dict)
 
@@ -133,8 +139,12 @@ class Evidence:
     def score(self) -> float:
         """How well the candidate's model fits the whole file against the model before it, beyond its
         parameters: held-out dX2 less its BIC penalty plus the calibration chi-square gain less its BIC penalty
-        (noise variances).  Ranks the candidates that pass every rule."""
-        return self.chi2_gain - self.bic_penalty + self.calibration_chi2_gain - self.calibration_penalty
+        (noise variances).  Ranks the candidates that pass every rule.  For a candidate judged by cross-validation
+        over trials the held-out term is ``ranking_chi2_gain``: its fit on every calibration trial against the model
+        before on the step's own held-out trials, the trials and the model every other candidate is scored on."""
+        held, penalty = ((self.chi2_gain, self.bic_penalty) if self.ranking_chi2_gain is None
+                         else (self.ranking_chi2_gain, self.ranking_penalty or 0.0))
+        return held - penalty + self.calibration_chi2_gain - self.calibration_penalty
 
     def text(self) -> str:
         """One line: the held-out error, gains against penalties, bootstrap, excess removed, failures."""
@@ -149,6 +159,9 @@ class Evidence:
             parts.append(f"where the cause is {'defined' if self.window_how == 'defined' else 'acting'} "
                          f"({len(self.window_trials)} held-out trials) chi2 gain {self.window_chi2_gain:.1f} vs "
                          f"{self.window_penalty:.1f}, bootstrap 5th percentile {self.window_p05:.4g}")
+        if self.ranking_chi2_gain is not None:
+            parts.append(f"scored on the held-out trials alone with its fit on every calibration trial: chi2 gain "
+                         f"{self.ranking_chi2_gain:.1f} vs {self.ranking_penalty:.1f}")
         if self.beyond_resize_chi2_gain is not None:
             parts.append(f"beyond a trial-by-trial resize of the causes before it chi2 gain "
                          f"{self.beyond_resize_chi2_gain:.1f} (the resize alone {self.resize_chi2_gain:.1f})")
@@ -172,6 +185,7 @@ class Evidence:
                 "baseline_excess": self.baseline_excess, "share_of_baseline_excess": self.share_of_baseline_excess,
                 "cross_validated_trials": list(self.crossed),
                 "resize_chi2_gain": self.resize_chi2_gain, "beyond_resize_chi2_gain": self.beyond_resize_chi2_gain,
+                "ranking_chi2_gain": self.ranking_chi2_gain, "ranking_bic_penalty": self.ranking_penalty,
                 "per_trial": self.per_trial, "passed": self.passed, "failed": self.failed}
 
 
@@ -259,6 +273,22 @@ def window_judgement(window: Mapping[str, WindowSamples], measured: Mapping[str,
     return gain, n_parameters * math.log(max(n_eff, 2.0)), p05, per_trial
 
 
+def heldout_chi2_gain(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: Mapping[str, np.ndarray],
+                      after: Mapping[str, np.ndarray], noise: Mapping[str, Noise], n_parameters: int
+                      ) -> tuple[float, float]:
+    """dX2 of the model giving ``after`` over the one giving ``before`` (forces in N by trial id) on the ``heldout``
+    trials, corrected for the noise's autocorrelation, and its BIC penalty p ln(N_eff) (module docstring)."""
+    chi2 = n_eff = 0.0
+    for i in heldout:
+        e0, e1 = before[i] - measured[i], after[i] - measured[i]
+        nz = noise[i]
+        v = nz.sd_N ** 2
+        s0, s1 = float(e0 @ e0) / v, float(e1 @ e1) / v
+        chi2 += (s0 - s1) * (1 - nz.rho) / (1 + nz.rho)
+        n_eff += nz.n_eff
+    return chi2, n_parameters * math.log(max(n_eff, 2.0))
+
+
 def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: Mapping[str, np.ndarray],
            after: Mapping[str, np.ndarray], noise: Mapping[str, Noise], n_parameters: int, identified: list[str],
            calibration: tuple[float, float], window: Mapping[str, WindowSamples] | None, seed: int = 0,
@@ -267,23 +297,20 @@ def gather(heldout: Sequence[str], measured: Mapping[str, np.ndarray], before: M
     N by trial id, on the ``heldout`` trials; calibration: (chi-square gain, BIC penalty) of its fit; window: the
     held-out samples where the cause is judged (None: no such samples); quiet: its telling trials' window when the
     model before fits them to noise and the cause is judged where it acts instead (None otherwise)."""
-    gain = chi2 = excess = n_eff = 0.0
+    gain = excess = 0.0
     per_sample, nr0, nr1, per_trial = [], [], [], {}
     for i in heldout:
         e0, e1 = before[i] - measured[i], after[i] - measured[i]
-        nz = noise[i]
-        v = nz.sd_N ** 2
+        v = noise[i].sd_N ** 2
         s0, s1 = float(e0 @ e0) / v, float(e1 @ e1) / v
         gain += s0 - s1
-        chi2 += (s0 - s1) * (1 - nz.rho) / (1 + nz.rho)
         excess += max(s0 - e0.size, 0.0)
         nr0.append(nrmse_percent(measured[i], before[i]))
         nr1.append(nrmse_percent(measured[i], after[i]))
         per_trial[i] = {"gain": s0 - s1, "excess": max(s0 - e0.size, 0.0), "nrmse_before": nr0[-1],
                         "nrmse_after": nr1[-1]}
-        n_eff += nz.n_eff
         per_sample.append((e0 ** 2 - e1 ** 2) / v)
-    penalty = n_parameters * math.log(max(n_eff, 2.0))
+    chi2, penalty = heldout_chi2_gain(heldout, measured, before, after, noise, n_parameters)
     p05 = block_bootstrap_p05(per_sample, [noise[i] for i in heldout], np.random.default_rng(seed))
     ev = Evidence(n_parameters, gain, chi2, penalty, p05, excess, float(np.mean(nr0)), float(np.mean(nr1)),
                   structured_trials(measured, before, noise, heldout), identified, *calibration, per_trial=per_trial)

@@ -37,7 +37,7 @@ from typing import Sequence
 
 from .evidence import Evidence
 from .models import MODEL_MAX_ITERATIONS, FittedModel, fit_model
-from .selection import (Context, Step, candidate_on, crossed, identified_on_every_calibration_trial, judge,
+from .selection import (Context, Step, candidate_on, crossed, scored_on_every_calibration_trial, judge,
                         noise_under, refit_on)
 from .rules import REDUNDANCY_RULES
 
@@ -93,7 +93,7 @@ def check(ctx: Context, steps: Sequence[Step], name: str, final: FittedModel, rn
         before_cv = refit_on(sub, before)
         ev = judge(sub, name, before_cv, candidate_on(sub, s.candidates[name], before_cv), list(key))
         ev.crossed = tuple(key)
-        ev = identified_on_every_calibration_trial(ev, ctx, name, before, final)
+        ev = scored_on_every_calibration_trial(ev, ctx, name, before, final)
     else:
         ev = judge(ctx, name, before, final, s.candidates[name].telling_heldout)
     ctx.say(f"    {name} against {before.name}: {ev.text()}")

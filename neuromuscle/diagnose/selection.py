@@ -66,7 +66,7 @@ from ..model.extensions import LENGTH_PARAMETERS
 from ..parameters import ParameterSet, registry
 from .baseline import FORCE_PARAMETERS
 from .causes import causes, isometric_level, telling_trials, where_defined
-from .evidence import Evidence, WindowSamples, excess, gather, quiet_window
+from .evidence import Evidence, WindowSamples, excess, gather, heldout_chi2_gain, quiet_window
 from .models import (CANDIDATE_TOLERANCE, MODEL_MAX_ITERATIONS, OPTIONS, FittedModel, extension_class,
                      extension_defaults, extension_neutral, fit_model, simulate_all)
 from .phases import TrialPhases
@@ -549,18 +549,28 @@ def judge_crossed(ctx: Context, c: Candidate, before: FittedModel) -> Evidence:
     model = candidate_on(sub, c, before_cv)
     ev = judge(sub, c.name, before_cv, model, c.telling_calibration)
     ev.crossed = tuple(c.telling_calibration)
-    return identified_on_every_calibration_trial(ev, ctx, c.name, before, c.model)
+    return scored_on_every_calibration_trial(ev, ctx, c.name, before, c.model)
 
 
-def identified_on_every_calibration_trial(ev: Evidence, ctx: Context, name: str, before: FittedModel,
+def scored_on_every_calibration_trial(ev: Evidence, ctx: Context, name: str, before: FittedModel,
                                           model: FittedModel) -> Evidence:
     """Evidence judged by cross-validation over trials, its calibration side (rule R1, and the score's calibration
-    term) taken from the candidate's fit on every calibration trial of ``ctx`` (``model``, against ``before``), the
-    rules applied again.  Whether an effect is identified is a question about the calibration data, and the
-    cross-validated fit lacks exactly the trials that tell it (a single post-tetanic series, a single long train):
-    asked there, a cause with one telling trial could never be identified.  The held-out rules keep the
-    cross-validated fits, which never saw the trials they are judged on."""
+    term) and its score's held-out term taken from the candidate's fit on every calibration trial of ``ctx``
+    (``model``, against ``before``), the rules applied again.  Whether an effect is identified is a question about
+    the calibration data, and the cross-validated fit lacks exactly the trials that tell it (a single post-tetanic
+    series, a single long train): asked there, a cause with one telling trial could never be identified.  The
+    held-out rules keep the cross-validated fits, which never saw the trials they are judged on.  The score ranks
+    this candidate against the others of its step, which are judged against ``before`` on ``ctx``'s held-out trials;
+    the cross-validated model before, fitted without some trials, predicts those worse, and a gain measured from it
+    would count that loss as the candidate's.  So the score's held-out term is ``model`` against ``before`` on
+    ``ctx``'s held-out trials (:func:`.evidence.heldout_chi2_gain`), the model that would be named against the model
+    every candidate of the step is scored against."""
     ev.identified, (ev.calibration_chi2_gain, ev.calibration_penalty) = calibration_side(ctx, name, before, model)
+    ext = extension_class(name)
+    own = tuple(ext.qualified(p.name) for p in ext.parameters)
+    before_r, model_r = reached(ctx, before), reached(ctx, model, tuple(dict.fromkeys(before.free + own)))
+    ev.ranking_chi2_gain, ev.ranking_penalty = heldout_chi2_gain(ctx.heldout, ctx.measured, before_r.simulated,
+                                                                 model_r.simulated, ctx.noise, len(ext.parameters))
     return apply_rules(ev)
 
 
@@ -635,7 +645,7 @@ def joint(ctx: Context, s: Step) -> Joint | None:
         evidence[c.name] = judge(where, c.name, judged[other.name], together, held)
         evidence[c.name].crossed = key
         if key:
-            identified_on_every_calibration_trial(evidence[c.name], ctx, c.name, alone[other.name], model)
+            scored_on_every_calibration_trial(evidence[c.name], ctx, c.name, alone[other.name], model)
         ctx.say(f"    {c.name} beside {other.name}: {evidence[c.name].text()}")
     return Joint(names, model, alone, evidence)
 

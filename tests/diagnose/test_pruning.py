@@ -113,7 +113,7 @@ def test_a_cause_named_by_cross_validation_is_judged_on_that_split_again(monkeyp
         return ev
 
     monkeypatch.setattr(pruning, "candidate_on", fake_candidate_on)
-    monkeypatch.setattr(pruning, "identified_on_every_calibration_trial", fake_identified)
+    monkeypatch.setattr(pruning, "scored_on_every_calibration_trial", fake_identified)
     p = prune(ctx, steps)
     assert judged == [("fatigue", "baseline + b", "baseline + b + fatigue", ("held_train", "long_train"))]
     assert fits == [(("b",), ("twitch", "train", "long_train")),   # the final model without fatigue

@@ -166,8 +166,9 @@ def test_a_candidate_whose_telling_trials_all_calibrate_is_judged_with_them_held
 
     def fake_fit(extensions, baseline_free, starts, calibration, *args, **kwargs):
         fits.append((tuple(extensions), tuple(calibration)))
-        return SimpleNamespace(name=" + ".join(("baseline",) + tuple(extensions)), start="model before",
-                               extensions=tuple(extensions), cost=1.0, simulated={})
+        name = " + ".join(("baseline",) + tuple(extensions))
+        return SimpleNamespace(name=name, start="model before", extensions=tuple(extensions), cost=1.0,
+                               simulated={"of": f"{name} on {len(calibration)} trials"}, free=("P0",))
 
     def fake_judge(ctx, name, before, model, held):
         judged.append((name, tuple(ctx.calibration), tuple(ctx.heldout), before.name, tuple(held)))
@@ -177,13 +178,20 @@ def test_a_candidate_whose_telling_trials_all_calibrate_is_judged_with_them_held
         identifying.append((name, tuple(ctx.calibration), before.name, model.name))
         return ["fatigue.k"], (500.0, 20.0)
 
-    identifying = []
+    def fake_ranking(heldout, measured, before, after, noise, n_parameters):
+        ranking.append((tuple(heldout), before["of"], after["of"], n_parameters))
+        return 300.0, 7.0
+
+    identifying, ranking = [], []
+    monkeypatch.setattr(selection, "heldout_chi2_gain", fake_ranking)
+    monkeypatch.setattr(selection.Context, "measured", property(lambda ctx: {}))
     monkeypatch.setattr(selection, "fit_model", fake_fit)
     monkeypatch.setattr(selection, "calibration_chi2", lambda ctx, simulated: 2.0)
     monkeypatch.setattr(selection, "judge", fake_judge)
     monkeypatch.setattr(selection, "calibration_side", fake_calibration_side)
     monkeypatch.setattr(selection, "_starts", lambda ctx, name, before, screened: {})
-    baseline = SimpleNamespace(name="baseline", extensions=(), simulated={}, parameters=None)
+    baseline = SimpleNamespace(name="baseline", extensions=(), simulated={"of": "baseline on 3 trials"},
+                               parameters=None, free=("P0",))
     data = SimpleNamespace(trials={i: i for i in ("twitch", "train", "long_train", "held_train")})
     ctx = selection.Context(data, {}, ("twitch", "train", "long_train"), ("held_train",), {}, None, ("P0",))
     ctx.baseline = baseline
@@ -197,6 +205,9 @@ def test_a_candidate_whose_telling_trials_all_calibrate_is_judged_with_them_held
     # whether the effect is identified: from the candidate's fit on every calibration trial, against the model before
     assert identifying == [("fatigue", ("twitch", "train", "long_train"), "baseline", "baseline + fatigue")]
     assert (fatigue.evidence.identified, fatigue.evidence.calibration_chi2_gain) == (["fatigue.k"], 500.0)
+    # its score: that fit against the model before on the file's own held-out trials, as every other candidate's
+    assert ranking == [(("held_train",), "baseline on 3 trials", "baseline + fatigue on 3 trials", 3)]
+    assert fatigue.evidence.score == 300.0 - 7.0 + 500.0 - 20.0
     fit_alone(ctx, Candidate("relaxation_rate", ["long_train"], []), baseline)
     assert len(fits) == 5  # the refitted baseline is kept
     staircase = Candidate("staircase", ["train"], ["held_train"])
@@ -214,7 +225,7 @@ def _pair_world(monkeypatch):
     def fake_fit(extensions, baseline_free, starts, calibration, *args, **kwargs):
         fits.append((tuple(extensions), tuple(t for t in calibration)))
         return SimpleNamespace(name=" + ".join(("baseline",) + tuple(extensions)), start="model before",
-                               extensions=tuple(extensions), cost=1.0, simulated={}, parameters=p)
+                               extensions=tuple(extensions), cost=1.0, simulated={}, parameters=p, free=("P0",))
 
     def fake_judge(ctx, name, before, model, held):
         judged.append((name, tuple(ctx.calibration), before.name, model.name, tuple(held)))
@@ -226,7 +237,9 @@ def _pair_world(monkeypatch):
     monkeypatch.setattr(selection, "calibration_side", lambda ctx, name, before, model: (
         [], (70.0 if len(ctx.calibration) == 3 else 0.0, 10.0)))  # the gain tells which split it was read on
     monkeypatch.setattr(selection, "_starts", lambda ctx, name, before, screened: {})
-    baseline = SimpleNamespace(name="baseline", extensions=(), simulated={}, parameters=p)
+    monkeypatch.setattr(selection, "heldout_chi2_gain", lambda *args: (90.0, 10.0))  # as evidence()
+    monkeypatch.setattr(selection.Context, "measured", property(lambda ctx: {}))
+    baseline = SimpleNamespace(name="baseline", extensions=(), simulated={}, parameters=p, free=("P0",))
     data = SimpleNamespace(trials={i: i for i in ("twitch", "train", "long_train", "held_train")})
     ctx = selection.Context(data, {}, ("twitch", "train", "long_train"), ("held_train",), {}, None, ("P0",))
     ctx.baseline = baseline
