@@ -319,6 +319,15 @@ def reached(ctx: Context, model: FittedModel, free: Sequence[str] | None = None)
     return ctx.reaches[key]
 
 
+def reached_pair(ctx: Context, name: str, before: FittedModel, model: FittedModel
+                 ) -> tuple[FittedModel, FittedModel]:
+    """``before`` and candidate ``name``'s ``model`` as they enter its held-out numbers (:func:`reached`): the
+    candidate's model in the model before's free parameters and its own."""
+    ext = extension_class(name)
+    own = tuple(ext.qualified(p.name) for p in ext.parameters)
+    return reached(ctx, before), reached(ctx, model, tuple(dict.fromkeys(before.free + own)))
+
+
 def contributions(ctx: Context, model: FittedModel, but: str) -> dict[str, dict[str, np.ndarray]]:
     """The held-out forces (N, by cause then trial) that each cause of ``model`` other than ``but`` adds to it:
     its forces less those with that cause's extension neutral; only causes whose size may differ between trials
@@ -343,10 +352,9 @@ def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
     """The evidence of candidate ``name`` (fitted: ``model``) against ``before`` (with ``ctx.reach``: what each
     reaches, the candidate in the model before's free parameters and its own), with every rule applied."""
     ext = extension_class(name)
-    own = tuple(ext.qualified(p.name) for p in ext.parameters)
     fitted = model
     resizable = {} if ext.static else contributions(ctx, before, name)
-    before, model = reached(ctx, before), reached(ctx, model, tuple(dict.fromkeys(before.free + own)))
+    before, model = reached_pair(ctx, name, before, model)
     n_par = len(ext.parameters)
     identified, calib = calibration_side(ctx, name, before, model)
     window, quiet = _windows(ctx, name, before, model, telling_heldout, fitted)
@@ -553,7 +561,7 @@ def judge_crossed(ctx: Context, c: Candidate, before: FittedModel) -> Evidence:
 
 
 def scored_on_every_calibration_trial(ev: Evidence, ctx: Context, name: str, before: FittedModel,
-                                          model: FittedModel) -> Evidence:
+                                      model: FittedModel) -> Evidence:
     """Evidence judged by cross-validation over trials, its calibration side (rule R1, and the score's calibration
     term) and its score's held-out term taken from the candidate's fit on every calibration trial of ``ctx``
     (``model``, against ``before``), the rules applied again.  Whether an effect is identified is a question about
@@ -566,11 +574,10 @@ def scored_on_every_calibration_trial(ev: Evidence, ctx: Context, name: str, bef
     ``ctx``'s held-out trials (:func:`.evidence.heldout_chi2_gain`), the model that would be named against the model
     every candidate of the step is scored against."""
     ev.identified, (ev.calibration_chi2_gain, ev.calibration_penalty) = calibration_side(ctx, name, before, model)
-    ext = extension_class(name)
-    own = tuple(ext.qualified(p.name) for p in ext.parameters)
-    before_r, model_r = reached(ctx, before), reached(ctx, model, tuple(dict.fromkeys(before.free + own)))
+    before_r, model_r = reached_pair(ctx, name, before, model)
     ev.ranking_chi2_gain, ev.ranking_penalty = heldout_chi2_gain(ctx.heldout, ctx.measured, before_r.simulated,
-                                                                 model_r.simulated, ctx.noise, len(ext.parameters))
+                                                                 model_r.simulated, ctx.noise,
+                                                                 len(extension_class(name).parameters))
     return apply_rules(ev)
 
 
