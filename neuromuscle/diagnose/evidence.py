@@ -17,7 +17,7 @@ s_k and rho_k its AR(1) noise (:func:`.residuals.noise_level`), n_k samples, n_e
   length, 0 elsewhere); when the model before already fits the cause's telling trials to noise, the window is
   where its extension acts, and the gain, penalty and bootstrap on those **quiet** telling trials are kept too;
 * beside the causes named before it, the part of the held-out chi-square gain that remains **beyond a resize** of
-  those causes, trial by trial (:mod:`.resize`);
+  those causes, one size for each kind of held-out trial (:mod:`.resize`);
 * the **calibration** chi-square gain of the candidate's fit over the model before it and its BIC penalty (both
   fitted on that chi-square, so this is a likelihood ratio);
 * the **score** that ranks the candidates that pass: held-out dX2 and calibration gain, each less its penalty.  A
@@ -124,9 +124,8 @@ class Evidence:
 
     @property
     def beyond_resize_share(self) -> float | None:
-        """The share of the held-out chi-square gain that remains beyond a trial-by-trial resize of the causes
-        named before the candidate (:mod:`.resize`); None when none of them can be resized or the gain is not
-        positive."""
+        """The share of the held-out chi-square gain that remains beyond a resize of the causes named before the
+        candidate (:mod:`.resize`); None when none of them can be resized or the gain is not positive."""
         if self.beyond_resize_chi2_gain is None or self.chi2_gain <= 0:
             return None
         return self.beyond_resize_chi2_gain / self.chi2_gain
@@ -163,7 +162,7 @@ class Evidence:
             parts.append(f"scored on the held-out trials alone with its fit on every calibration trial: chi2 gain "
                          f"{self.ranking_chi2_gain:.1f} vs {self.ranking_penalty:.1f}")
         if self.beyond_resize_chi2_gain is not None:
-            parts.append(f"beyond a trial-by-trial resize of the causes before it chi2 gain "
+            parts.append(f"beyond a resize of the causes before it chi2 gain "
                          f"{self.beyond_resize_chi2_gain:.1f} (the resize alone {self.resize_chi2_gain:.1f})")
         parts.append("passes every rule" if self.passed else
                      "FAILS " + "; ".join(f"{k}: {v}" for k, v in self.failed.items()))

@@ -127,6 +127,14 @@ class TrialPhases:
         return bool(np.any(self.moving))
 
     @property
+    def movement_kind(self) -> str:
+        """How the length moves while the muscle is stimulated: "movement" when some stimulated run of moving
+        samples is not a ramp (random, cyclic or stepped length), else "ramps" when one is a ramp, else
+        "isometric"."""
+        kinds = {p.kind for p in self.phases if p.stimulated}
+        return "movement" if "movement" in kinds else "ramps" if "ramp" in kinds else "isometric"
+
+    @property
     def active_movement(self) -> bool:
         """The length moves while the muscle is stimulated."""
         return bool(np.any(self.moving & self.stimulated))

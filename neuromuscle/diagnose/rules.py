@@ -9,7 +9,8 @@ in ways the calibration trials cannot pin down, and a flexible extension takes u
 held-out trials too.  The rules ask, beyond the gain, that there be something to explain, that the extension's
 effect be identified, that the gain be robust and material, and that it show where the cause acts, with nothing
 left where no cause of the catalogue acts (the muscle at rest); and of a cause judged beside causes named before it,
-that most of its gain be more than those causes would give with a size of their own in each trial (:mod:`.resize`).
+that most of its gain be more than those causes would give with a size of their own for each kind of trial
+(isometric, ramps, other movement; :mod:`.resize`).
 """
 
 from __future__ import annotations
@@ -26,8 +27,8 @@ MIN_EXCESS_REMOVED_DIFFUSE = 0.5
 MIN_EXCESS_REMOVED = 0.25
 #: ... or of the error above noise on the held-out trials where it is judged (rule R7's trials).
 MIN_WINDOW_EXCESS_REMOVED = 0.5
-#: R8: the least share of its held-out chi-square gain a later cause keeps beyond a trial-by-trial resize of the
-#: causes named before it.
+#: R8: the least share of its held-out chi-square gain a later cause keeps beyond a resize of the causes named
+#: before it (one size per cause and kind of held-out trial).
 MIN_BEYOND_RESIZE = 0.5
 #: R6: a model leaves structure at rest when at least max(REST_MIN_TRIALS, REST_MIN_FRACTION x trials with a
 #: rest window) trials trend at rest with |z| > REST_Z.
@@ -138,8 +139,9 @@ def _beyond_resize(e: Evidence) -> str | None:
     beyond = e.beyond_resize_chi2_gain
     if beyond is None or beyond >= MIN_BEYOND_RESIZE * e.chi2_gain:
         return None
-    return (f"of its held-out chi2 gain {e.chi2_gain:.1f}, {beyond:.1f} remains beyond a trial-by-trial resize of "
-            f"the causes named before it (which alone gains {e.resize_chi2_gain:.1f}); at least "
+    return (f"of its held-out chi2 gain {e.chi2_gain:.1f}, {beyond:.1f} remains beyond a resize of the causes "
+            f"named before it, one size for each kind of held-out trial (which alone gains {e.resize_chi2_gain:.1f}); "
+            f"at least "
             f"{100 * MIN_BEYOND_RESIZE:.0f} % must")
 
 
@@ -182,10 +184,11 @@ RULES: tuple[Rule, ...] = (
          _where_it_acts),
     Rule("R8", "more than a resize of the causes before it",
          f"at least {100 * MIN_BEYOND_RESIZE:.0f} % of the held-out chi-square gain remains when the causes named "
-         "before the candidate may each take another size in every held-out trial, in the model before and in the "
-         "candidate's alike: the first cause named takes its effect's average size, and what its form leaves in "
-         "each trial must not name a second cause.  A static property of the muscle (length-dependent activation) "
-         "is neither resized nor asked: its effect is a size that differs between trials at different lengths",
+         "before the candidate may each take another size for each kind of held-out trial (isometric, ramps, other "
+         "movement while stimulated), in the model before and in the candidate's alike: the first cause named takes "
+         "its effect's average size, and what its form leaves in each kind of trial must not name a second cause.  A "
+         "static property of the muscle (length-dependent activation) is neither resized nor asked: its effect is a "
+         "size that differs between trials at different lengths",
          _beyond_resize),
 )
 

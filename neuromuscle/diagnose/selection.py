@@ -333,7 +333,7 @@ def contributions(ctx: Context, model: FittedModel, but: str) -> dict[str, dict[
     its forces less those with that cause's extension neutral; only causes whose size may differ between trials
     (not ``Extension.static``), the numbers rule R8 resizes (:mod:`.resize`).  Kept per model and held-out set.
     A static candidate is not judged by R8 (:func:`judge`): its effect is itself a size that differs between trials
-    at different lengths, which a trial-by-trial resize of any cause before it can mimic."""
+    at different lengths, which a resize of a cause before it can mimic where the kinds of trial differ in length."""
     named = [c for c in model.extensions if c != but and not extension_class(c).static]
     held = [ctx.data.trials[i] for i in ctx.heldout]
     out = {}
@@ -368,7 +368,8 @@ def judge(ctx: Context, name: str, before: FittedModel, model: FittedModel,
     ev.n_rest = len(have)
     if resizable:
         ev.resize_chi2_gain, ev.beyond_resize_chi2_gain = beyond_resize(
-            ctx.heldout, ctx.measured, before.simulated, model.simulated, ctx.noise, resizable)
+            ctx.heldout, ctx.measured, before.simulated, model.simulated, ctx.noise, resizable,
+            {i: ctx.phases[i].movement_kind for i in ctx.heldout})
     apply_rules(ev)
     return ev
 

@@ -27,7 +27,7 @@ def test_isometric_train_facts():
     assert ph.n_stimuli == 20 and ph.regular_rate_hz == pytest.approx(20.0)
     assert ph.mean_rate_hz == pytest.approx(20.0) and ph.min_isi_ms == pytest.approx(50.0)
     assert ph.train_s == pytest.approx(0.95) and not ph.burst_after_pause
-    assert [p.kind for p in ph.phases] == ["hold"]
+    assert [p.kind for p in ph.phases] == ["hold"] and ph.movement_kind == "isometric"
     assert ph.isometric_stimulated().sum() == ph.stimulated.sum() > 0
     assert ph.length_offset_mm(-6.0) == pytest.approx(-2.0)
 
@@ -51,15 +51,22 @@ def test_stretch_hold_has_a_ramp_then_a_hold_after_it():
     assert not ph.hold_after(-1).any()  # no shortening
     iso = ph.isometric_stimulated()  # the hold before the ramp, and the hold 0.2 s after it
     assert iso[int(0.3 / 0.001)] and not iso[int(0.7 / 0.001)] and iso[int(1.5 / 0.001)]
-    assert ph.active_movement and ph.isometric_length_mm is None
+    assert ph.active_movement and ph.isometric_length_mm is None and ph.movement_kind == "ramps"
 
 
 def test_a_movement_that_is_not_a_ramp_and_lengthening_below_the_optimum():
     stim = 0.1 + np.arange(40) / 10.0
     ph = describe(_trial(stim, lambda t: -8.0 + 3.0 * np.sin(2 * np.pi * 0.5 * t), duration_s=4.0))
-    assert any(p.kind == "movement" for p in ph.phases)
+    assert any(p.kind == "movement" for p in ph.phases) and ph.movement_kind == "movement"
     assert ph.lengthening_below(-6.0) and not ph.lengthening_below(-20.0)
     assert not ph.hold_after(1).any()  # brief stops of a sinusoid are not holds
+
+
+def test_a_movement_of_the_passive_muscle_leaves_a_trial_isometric_in_kind():
+    """Stimulated only after a passive stretch: a kind of movement is how the length moves while stimulated."""
+    stim = 1.5 + np.arange(20) / 20.0
+    ph = describe(_trial(stim, _ramp(-8.0, -3.0, 20.0, 0.2)))
+    assert ph.moves and not ph.active_movement and ph.movement_kind == "isometric"
 
 
 def test_burst_after_pause_and_irregular_rates():
