@@ -141,8 +141,7 @@ def _beyond_resize(e: Evidence) -> str | None:
         return None
     return (f"of its held-out chi2 gain {e.chi2_gain:.1f}, {beyond:.1f} remains beyond a resize of the causes "
             f"named before it, one size for each kind of held-out trial (which alone gains {e.resize_chi2_gain:.1f}); "
-            f"at least "
-            f"{100 * MIN_BEYOND_RESIZE:.0f} % must")
+            f"at least {100 * MIN_BEYOND_RESIZE:.0f} % must")
 
 
 RULES: tuple[Rule, ...] = (
