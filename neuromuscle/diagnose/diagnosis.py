@@ -11,9 +11,9 @@ forward selection of causes (:mod:`.selection`), each candidate fitted with the 
 (:mod:`.pruning`): a cause named before the last one that fails a rule of redundancy against the final model without
 it is dropped.
 After the last cause, the residual is *unexplained* when structure that no candidate removes is left in enough trials: a
-trend where the model's muscle is quiet (rule R6's test) or a residual RMS above ``ACTIVE_STRUCTURE_RATIO`` noise sd
-while active.  Below that ratio, a preparation's misfit of parameters its trials cannot pin down and an effect outside
-the catalogue cannot be told apart.
+trend where the model's muscle is quiet (rule R6's test) or a residual RMS over the whole trial above
+``ACTIVE_STRUCTURE_RATIO`` noise sd.  Below that ratio, a preparation's misfit of parameters its trials cannot pin
+down and an effect outside the catalogue cannot be told apart.
 """
 
 from __future__ import annotations
